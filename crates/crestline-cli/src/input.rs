@@ -1,0 +1,50 @@
+//! Loading the input mesh: a file given by the user, or the built-in example.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::ValueEnum;
+use crestline::TriMesh;
+use crestline::io::Format;
+
+/// Formats a user can force with `--format`.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum FormatArg {
+    /// Wavefront OBJ.
+    Obj,
+    /// Stanford PLY.
+    Ply,
+    /// Object File Format.
+    Off,
+    /// STL, ascii or binary.
+    Stl,
+}
+
+impl From<FormatArg> for Format {
+    fn from(f: FormatArg) -> Self {
+        match f {
+            FormatArg::Obj => Format::Obj,
+            FormatArg::Ply => Format::Ply,
+            FormatArg::Off => Format::Off,
+            FormatArg::Stl => Format::Stl,
+        }
+    }
+}
+
+/// Reads `path`, or builds the built-in example when it is `None` (and says so on stderr).
+pub fn load_mesh(path: Option<&PathBuf>, format: Option<FormatArg>) -> Result<(TriMesh, String)> {
+    match path {
+        Some(p) => {
+            let mesh = crestline::io::read_mesh(p, format.map(Into::into))
+                .with_context(|| format!("cannot load {}", p.display()))?;
+            Ok((mesh, p.display().to_string()))
+        }
+        None => {
+            eprintln!("no mesh given: using the built-in example (a triaxial ellipsoid)");
+            Ok((
+                crestline::shapes::ellipsoid(3.0, 2.0, 1.0, 5),
+                "built-in ellipsoid".into(),
+            ))
+        }
+    }
+}

@@ -1,0 +1,37 @@
+//! `crestline`: feature lines on triangle meshes, from the command line.
+//!
+//! The CLI is thin: each subcommand (one file under `cmd/`) turns its arguments into the
+//! library's options structs, calls the library and writes the results.
+
+mod cmd;
+mod input;
+
+use clap::{Parser, Subcommand};
+
+/// Ridges, valleys and crest lines on triangle meshes.
+#[derive(Debug, Parser)]
+#[command(name = "crestline", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Print counts and health figures of a mesh.
+    Info(cmd::info::Args),
+}
+
+fn main() -> std::process::ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Info(args) => cmd::info::run(args),
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

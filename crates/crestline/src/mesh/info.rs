@@ -1,0 +1,114 @@
+//! A mesh's health report: counts of everything that makes real meshes awkward.
+
+use serde::Serialize;
+
+use super::{EdgeKind, TriMesh, VertexKind, mean_edge_length};
+
+/// Counts and bounds of a mesh, as `crestline info` prints them.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeshInfo {
+    /// Vertices, including unreferenced ones.
+    pub vertices: usize,
+    /// Triangles kept (after fan triangulation and dropping degenerate ones).
+    pub faces: usize,
+    /// Undirected edges.
+    pub edges: usize,
+    /// Vertices no face uses.
+    pub unreferenced_vertices: usize,
+    /// Triangles dropped for a repeated index or zero area.
+    pub degenerate_faces: usize,
+    /// Edges with one face.
+    pub boundary_edges: usize,
+    /// Closed loops of boundary edges.
+    pub boundary_loops: usize,
+    /// Edges with three or more faces.
+    pub non_manifold_edges: usize,
+    /// Vertices whose faces form several fans or that touch a non-manifold edge.
+    pub non_manifold_vertices: usize,
+    /// Connected components (faces sharing a vertex are connected).
+    pub components: usize,
+    /// V - E + F over referenced vertices.
+    pub euler_characteristic: i64,
+    /// No boundary edges and no non-manifold edges.
+    pub closed: bool,
+    /// Smallest corner of the bounding box of referenced vertices.
+    pub bbox_min: [f64; 3],
+    /// Largest corner.
+    pub bbox_max: [f64; 3],
+    /// Length of the bounding-box diagonal.
+    pub diagonal: f64,
+    /// Mean length of the edges.
+    pub mean_edge_length: f64,
+}
+
+impl MeshInfo {
+    /// Computes the report.
+    pub fn of(mesh: &TriMesh) -> Self {
+        let topo = mesh.topology();
+        let kinds = topo.vertex_kinds();
+        let count = |k: VertexKind| kinds.iter().filter(|&&x| x == k).count();
+        let unreferenced = count(VertexKind::Unreferenced);
+        let edge_count = |k: EdgeKind| {
+            (0..topo.num_edges() as u32)
+                .filter(|&e| topo.edge_kind(e) == k)
+                .count()
+        };
+        let boundary_edges = edge_count(EdgeKind::Boundary);
+        let non_manifold_edges = edge_count(EdgeKind::NonManifold);
+        let (_, components) = topo.vertex_components(mesh.faces());
+        let bbox = mesh.bounding_box();
+        let euler = (mesh.num_vertices() - unreferenced) as i64 - topo.num_edges() as i64
+            + mesh.num_faces() as i64;
+        MeshInfo {
+            vertices: mesh.num_vertices(),
+            faces: mesh.num_faces(),
+            edges: topo.num_edges(),
+            unreferenced_vertices: unreferenced,
+            degenerate_faces: mesh.degenerate_faces(),
+            boundary_edges,
+            boundary_loops: topo.boundary_loops(mesh.faces()),
+            non_manifold_edges,
+            non_manifold_vertices: count(VertexKind::NonManifold),
+            components,
+            euler_characteristic: euler,
+            closed: boundary_edges == 0 && non_manifold_edges == 0 && mesh.num_faces() > 0,
+            bbox_min: bbox.min,
+            bbox_max: bbox.max,
+            diagonal: bbox.diagonal(),
+            mean_edge_length: mean_edge_length(mesh),
+        }
+    }
+}
+
+impl std::fmt::Display for MeshInfo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(f, "vertices               {}", self.vertices)?;
+        writeln!(f, "faces                  {}", self.faces)?;
+        writeln!(f, "edges                  {}", self.edges)?;
+        writeln!(f, "unreferenced vertices  {}", self.unreferenced_vertices)?;
+        writeln!(
+            f,
+            "degenerate faces       {} (dropped)",
+            self.degenerate_faces
+        )?;
+        writeln!(f, "boundary edges         {}", self.boundary_edges)?;
+        writeln!(f, "boundary loops         {}", self.boundary_loops)?;
+        writeln!(f, "non-manifold edges     {}", self.non_manifold_edges)?;
+        writeln!(f, "non-manifold vertices  {}", self.non_manifold_vertices)?;
+        writeln!(f, "components             {}", self.components)?;
+        writeln!(f, "euler characteristic   {}", self.euler_characteristic)?;
+        writeln!(
+            f,
+            "closed                 {}",
+            if self.closed { "yes" } else { "no" }
+        )?;
+        let [a, b, c] = self.bbox_min;
+        let [x, y, z] = self.bbox_max;
+        writeln!(
+            f,
+            "bounding box           ({a:.6}, {b:.6}, {c:.6}) .. ({x:.6}, {y:.6}, {z:.6})"
+        )?;
+        writeln!(f, "diagonal               {:.6}", self.diagonal)?;
+        write!(f, "mean edge length       {:.6}", self.mean_edge_length)
+    }
+}

@@ -1,0 +1,224 @@
+//! Triangle meshes: geometry, connectivity and a health report.
+//!
+//! A [`TriMesh`] holds `f64` positions and `u32` triangles plus the connectivity
+//! ([`Topology`]) built once when the mesh is made. Real meshes contain boundaries,
+//! non-manifold edges and vertices, unreferenced vertices, degenerate triangles and several
+//! components; none of these is an error here. Triangles with a repeated index or zero area
+//! are kept out of the geometry and counted ([`TriMesh::degenerate_faces`]); everything else is
+//! reported by [`MeshInfo`] and handled by the algorithms.
+//!
+//! Sign convention (used by every algorithm in the crate): face normals follow the winding
+//! of the triangle by the right-hand rule; on a closed, consistently oriented mesh wound
+//! counter-clockwise seen from outside, normals point outward.
+
+mod geometry;
+mod info;
+mod topology;
+
+pub use geometry::{
+    BoundingBox, face_areas, face_normals, mean_edge_length, star_areas, vertex_normals_area,
+    vertex_normals_max,
+};
+pub use info::MeshInfo;
+pub use topology::{EdgeKind, Topology, VertexKind};
+
+use crate::error::{Error, Result};
+
+/// A 3-vector of `f64`, used for positions, normals and directions.
+pub type Vec3 = nalgebra::Vector3<f64>;
+
+/// A triangle mesh with its connectivity.
+///
+/// Construct with [`TriMesh::new`]; positions can be replaced later with
+/// [`TriMesh::with_positions`] (for example after smoothing) without rebuilding connectivity.
+#[derive(Debug, Clone)]
+pub struct TriMesh {
+    positions: Vec<Vec3>,
+    faces: Vec<[u32; 3]>,
+    topology: Topology,
+    degenerate_faces: usize,
+}
+
+impl TriMesh {
+    /// Builds a mesh from positions and triangles.
+    ///
+    /// Triangles with a repeated vertex index or (numerically) zero area are dropped and
+    /// counted in [`TriMesh::degenerate_faces`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when a coordinate is NaN or infinite, or an index is out of range.
+    pub fn new(positions: Vec<Vec3>, faces: Vec<[u32; 3]>) -> Result<Self> {
+        if let Some(i) = positions
+            .iter()
+            .position(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
+        {
+            return Err(Error::InvalidInput(format!(
+                "vertex {i} has a non-finite coordinate ({}, {}, {})",
+                positions[i].x, positions[i].y, positions[i].z
+            )));
+        }
+        let n = positions.len();
+        if n > u32::MAX as usize {
+            return Err(Error::InvalidInput(format!(
+                "{n} vertices is more than the 2^32-1 this crate indexes"
+            )));
+        }
+        if let Some((f, t)) = faces
+            .iter()
+            .enumerate()
+            .find(|(_, t)| t.iter().any(|&i| i as usize >= n))
+        {
+            return Err(Error::InvalidInput(format!(
+                "face {f} ({} {} {}) refers to a vertex beyond the {n} there are",
+                t[0], t[1], t[2]
+            )));
+        }
+        let before = faces.len();
+        let faces: Vec<[u32; 3]> = faces
+            .into_iter()
+            .filter(|t| !is_degenerate(&positions, t))
+            .collect();
+        let degenerate_faces = before - faces.len();
+        let topology = Topology::build(n, &faces);
+        Ok(TriMesh {
+            positions,
+            faces,
+            topology,
+            degenerate_faces,
+        })
+    }
+
+    /// Builds a mesh from `[f64; 3]` positions (as the readers produce them).
+    ///
+    /// # Errors
+    /// As [`TriMesh::new`].
+    pub fn from_arrays(positions: Vec<[f64; 3]>, faces: Vec<[u32; 3]>) -> Result<Self> {
+        Self::new(positions.into_iter().map(Vec3::from).collect(), faces)
+    }
+
+    /// The same connectivity with new positions (one per vertex).
+    ///
+    /// Faces that were kept stay kept even if the new positions make them thin: connectivity
+    /// does not change.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when the count differs or a coordinate is not finite.
+    pub fn with_positions(&self, positions: Vec<Vec3>) -> Result<Self> {
+        if positions.len() != self.positions.len() {
+            return Err(Error::InvalidInput(format!(
+                "{} positions given for a mesh of {} vertices",
+                positions.len(),
+                self.positions.len()
+            )));
+        }
+        if positions.iter().any(|p| !p.iter().all(|c| c.is_finite())) {
+            return Err(Error::InvalidInput("non-finite coordinate".into()));
+        }
+        Ok(TriMesh {
+            positions,
+            faces: self.faces.clone(),
+            topology: self.topology.clone(),
+            degenerate_faces: self.degenerate_faces,
+        })
+    }
+
+    /// Vertex positions, one per vertex (including unreferenced ones).
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// Position of vertex `v`.
+    #[inline]
+    pub fn position(&self, v: u32) -> Vec3 {
+        self.positions[v as usize]
+    }
+
+    /// The triangles kept (degenerate ones dropped), with their input winding.
+    pub fn faces(&self) -> &[[u32; 3]] {
+        &self.faces
+    }
+
+    /// Number of vertices, including unreferenced ones.
+    pub fn num_vertices(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of triangles kept.
+    pub fn num_faces(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Connectivity: edges, adjacency, one-rings.
+    pub fn topology(&self) -> &Topology {
+        &self.topology
+    }
+
+    /// Triangles dropped because of a repeated index or zero area.
+    pub fn degenerate_faces(&self) -> usize {
+        self.degenerate_faces
+    }
+
+    /// The three corner positions of face `f`.
+    #[inline]
+    pub fn triangle(&self, f: usize) -> [Vec3; 3] {
+        let [a, b, c] = self.faces[f];
+        [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ]
+    }
+
+    /// Axis-aligned bounding box of the referenced vertices (all vertices if none is referenced).
+    pub fn bounding_box(&self) -> BoundingBox {
+        geometry::bounding_box(self)
+    }
+
+    /// Counts and health figures for reports (`crestline info`).
+    pub fn info(&self) -> MeshInfo {
+        MeshInfo::of(self)
+    }
+}
+
+/// True when a triangle has a repeated index or an area that is zero up to rounding.
+fn is_degenerate(positions: &[Vec3], t: &[u32; 3]) -> bool {
+    if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+        return true;
+    }
+    let [a, b, c] = t.map(|i| positions[i as usize]);
+    let (e1, e2) = (b - a, c - a);
+    let cross = e1.cross(&e2).norm();
+    let scale = e1
+        .norm_squared()
+        .max(e2.norm_squared())
+        .max((c - b).norm_squared());
+    // Relative test: a triangle whose height is ~1e-13 of its longest edge is flat to rounding.
+    cross <= 1e-13 * scale
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn drops_and_counts_degenerate_faces() {
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [2.0, 0.0, 0.0],
+        ];
+        // Second face repeats an index, third is collinear.
+        let m = TriMesh::from_arrays(p, vec![[0, 1, 2], [0, 0, 1], [0, 1, 3]]).unwrap();
+        assert_eq!(m.num_faces(), 1);
+        assert_eq!(m.degenerate_faces(), 2);
+    }
+
+    #[test]
+    fn rejects_out_of_range_and_nan() {
+        let e = TriMesh::from_arrays(vec![[0.0; 3]; 3], vec![[0, 1, 3]]).unwrap_err();
+        assert!(e.to_string().contains("face 0"), "{e}");
+        let e = TriMesh::from_arrays(vec![[0.0, f64::NAN, 0.0]], vec![]).unwrap_err();
+        assert!(e.to_string().contains("non-finite"), "{e}");
+    }
+}

@@ -1,0 +1,616 @@
+//! Connectivity of a triangle soup that may be anything but a clean manifold.
+//!
+//! Built once in O(F log d) (d the vertex degree) from the face list:
+//! - vertex → incident faces and vertex → incident edges (compressed rows),
+//! - unique undirected edges, edge → incident faces (compressed rows), face → its three edges,
+//! - a [`VertexKind`] per vertex and an [`EdgeKind`] per edge.
+//!
+//! Ordered one-rings are walked on demand across edges that have exactly two faces, so they
+//! work whatever the orientation of the neighbouring faces; a vertex whose faces form more
+//! than one fan (or that touches a non-manifold edge) is [`VertexKind::NonManifold`] and its
+//! ring is returned fan by fan.
+
+use rayon::prelude::*;
+
+/// A marker for "no element".
+pub const NONE: u32 = u32::MAX;
+
+/// How an edge is used by faces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EdgeKind {
+    /// Exactly one incident face.
+    Boundary,
+    /// Exactly two incident faces.
+    Manifold,
+    /// Three or more incident faces.
+    NonManifold,
+}
+
+/// How the faces around a vertex fit together.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum VertexKind {
+    /// No face uses the vertex.
+    Unreferenced,
+    /// One closed fan of faces.
+    Interior,
+    /// One open fan whose two end edges are boundary edges.
+    Boundary,
+    /// Several fans, or an incident non-manifold edge.
+    NonManifold,
+}
+
+/// One fan of faces around a vertex, in walking order.
+///
+/// `faces[i]` lies between `vertices[i]` and `vertices[i + 1]` (indices modulo
+/// `vertices.len()` when the fan is closed). An open fan has one vertex more than faces.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Fan {
+    /// Neighbouring vertices in order.
+    pub vertices: Vec<u32>,
+    /// Faces in order.
+    pub faces: Vec<u32>,
+    /// True when the walk came back to its first face.
+    pub closed: bool,
+}
+
+/// Mesh connectivity. See the module docs.
+#[derive(Debug, Clone, Default)]
+pub struct Topology {
+    vertex_face_offsets: Vec<u32>,
+    vertex_faces: Vec<u32>,
+    vertex_edge_offsets: Vec<u32>,
+    vertex_edges: Vec<u32>,
+    edges: Vec<[u32; 2]>,
+    edge_face_offsets: Vec<u32>,
+    edge_faces: Vec<u32>,
+    face_edges: Vec<[u32; 3]>,
+    vertex_kinds: Vec<VertexKind>,
+}
+
+impl Topology {
+    /// Builds the connectivity of `faces` over `num_vertices` vertices.
+    ///
+    /// Indices must be in range and faces must not repeat an index (as [`super::TriMesh::new`]
+    /// guarantees).
+    pub fn build(num_vertices: usize, faces: &[[u32; 3]]) -> Self {
+        let (vertex_face_offsets, vertex_faces) = compressed_rows(
+            num_vertices,
+            faces
+                .iter()
+                .enumerate()
+                .flat_map(|(f, t)| t.map(|v| (v, f as u32))),
+        );
+
+        // Each edge is owned by its smaller endpoint; every vertex lists the (larger neighbour,
+        // face, slot) triples of the edges it owns. Slot s of a face is the edge from corner s
+        // to corner s + 1.
+        let owned: Vec<Vec<(u32, u32, u8)>> = (0..num_vertices)
+            .into_par_iter()
+            .map(|v| {
+                let lo = vertex_face_offsets[v] as usize;
+                let hi = vertex_face_offsets[v + 1] as usize;
+                let mut list = Vec::new();
+                for &f in &vertex_faces[lo..hi] {
+                    let t = faces[f as usize];
+                    for s in 0..3 {
+                        let (a, b) = (t[s], t[(s + 1) % 3]);
+                        let (small, large) = if a < b { (a, b) } else { (b, a) };
+                        if small as usize == v {
+                            list.push((large, f, s as u8));
+                        }
+                    }
+                }
+                list.sort_unstable();
+                list
+            })
+            .collect();
+
+        let mut edges = Vec::new();
+        let mut edge_face_offsets = vec![0u32];
+        let mut edge_faces = Vec::with_capacity(faces.len() * 3);
+        let mut face_edges = vec![[NONE; 3]; faces.len()];
+        for (v, list) in owned.iter().enumerate() {
+            let mut i = 0;
+            while i < list.len() {
+                let u = list[i].0;
+                let e = edges.len() as u32;
+                edges.push([v as u32, u]);
+                while i < list.len() && list[i].0 == u {
+                    let (_, f, s) = list[i];
+                    edge_faces.push(f);
+                    face_edges[f as usize][s as usize] = e;
+                    i += 1;
+                }
+                edge_face_offsets.push(edge_faces.len() as u32);
+            }
+        }
+        drop(owned);
+
+        let (vertex_edge_offsets, vertex_edges) = compressed_rows(
+            num_vertices,
+            edges
+                .iter()
+                .enumerate()
+                .flat_map(|(e, &[a, b])| [(a, e as u32), (b, e as u32)]),
+        );
+
+        let mut topology = Topology {
+            vertex_face_offsets,
+            vertex_faces,
+            vertex_edge_offsets,
+            vertex_edges,
+            edges,
+            edge_face_offsets,
+            edge_faces,
+            face_edges,
+            vertex_kinds: Vec::new(),
+        };
+        topology.vertex_kinds = (0..num_vertices as u32)
+            .into_par_iter()
+            .map_init(Vec::new, |fans, v| topology.classify_vertex(v, faces, fans))
+            .collect();
+        topology
+    }
+
+    /// Number of vertices (including unreferenced ones).
+    pub fn num_vertices(&self) -> usize {
+        self.vertex_kinds.len()
+    }
+
+    /// Number of unique undirected edges.
+    pub fn num_edges(&self) -> usize {
+        self.edges.len()
+    }
+
+    /// Endpoints of edge `e`, smaller index first.
+    #[inline]
+    pub fn edge(&self, e: u32) -> [u32; 2] {
+        self.edges[e as usize]
+    }
+
+    /// All edges, smaller endpoint first.
+    pub fn edges(&self) -> &[[u32; 2]] {
+        &self.edges
+    }
+
+    /// Faces incident to edge `e`.
+    #[inline]
+    pub fn edge_faces(&self, e: u32) -> &[u32] {
+        let e = e as usize;
+        &self.edge_faces[self.edge_face_offsets[e] as usize..self.edge_face_offsets[e + 1] as usize]
+    }
+
+    /// Boundary, manifold or non-manifold.
+    #[inline]
+    pub fn edge_kind(&self, e: u32) -> EdgeKind {
+        match self.edge_faces(e).len() {
+            0 | 1 => EdgeKind::Boundary,
+            2 => EdgeKind::Manifold,
+            _ => EdgeKind::NonManifold,
+        }
+    }
+
+    /// The edges of face `f`: slot `s` joins corner `s` to corner `s + 1`.
+    #[inline]
+    pub fn face_edges(&self, f: u32) -> [u32; 3] {
+        self.face_edges[f as usize]
+    }
+
+    /// The face across slot `s` of face `f`, when that edge has exactly two faces.
+    #[inline]
+    pub fn face_across(&self, f: u32, s: usize) -> Option<u32> {
+        match *self.edge_faces(self.face_edges[f as usize][s]) {
+            [a, b] => Some(if a == f { b } else { a }),
+            _ => None,
+        }
+    }
+
+    /// The faces across the three slots of face `f` (see [`Topology::face_across`]).
+    #[inline]
+    pub fn face_neighbors(&self, f: u32) -> [Option<u32>; 3] {
+        [0, 1, 2].map(|s| self.face_across(f, s))
+    }
+
+    /// Faces incident to vertex `v`, unordered.
+    #[inline]
+    pub fn vertex_faces(&self, v: u32) -> &[u32] {
+        let v = v as usize;
+        &self.vertex_faces
+            [self.vertex_face_offsets[v] as usize..self.vertex_face_offsets[v + 1] as usize]
+    }
+
+    /// Edges incident to vertex `v`, unordered.
+    #[inline]
+    pub fn vertex_edges(&self, v: u32) -> &[u32] {
+        let v = v as usize;
+        &self.vertex_edges
+            [self.vertex_edge_offsets[v] as usize..self.vertex_edge_offsets[v + 1] as usize]
+    }
+
+    /// Neighbours of `v` (each once), unordered.
+    pub fn neighbors(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
+        self.vertex_edges(v).iter().map(move |&e| {
+            let [a, b] = self.edges[e as usize];
+            if a == v { b } else { a }
+        })
+    }
+
+    /// Number of edges at `v`.
+    #[inline]
+    pub fn degree(&self, v: u32) -> usize {
+        let v = v as usize;
+        (self.vertex_edge_offsets[v + 1] - self.vertex_edge_offsets[v]) as usize
+    }
+
+    /// Kind of vertex `v`.
+    #[inline]
+    pub fn vertex_kind(&self, v: u32) -> VertexKind {
+        self.vertex_kinds[v as usize]
+    }
+
+    /// Kinds of all vertices.
+    pub fn vertex_kinds(&self) -> &[VertexKind] {
+        &self.vertex_kinds
+    }
+
+    /// True when `v` is on the boundary or non-manifold (its ring is not one closed fan).
+    #[inline]
+    pub fn is_boundary_vertex(&self, v: u32) -> bool {
+        !matches!(self.vertex_kinds[v as usize], VertexKind::Interior)
+    }
+
+    /// The ordered one-ring of `v`, fan by fan (one fan unless `v` is non-manifold).
+    ///
+    /// For a consistently oriented manifold mesh the order is counter-clockwise around the
+    /// face normals. Open fans start at a boundary (or non-manifold) edge.
+    pub fn fans(&self, v: u32, faces: &[[u32; 3]]) -> Vec<Fan> {
+        let mut fans = Vec::new();
+        self.walk_fans(v, faces, &mut fans);
+        fans
+    }
+
+    /// [`Topology::fans`] into a reusable buffer (cleared first).
+    pub fn walk_fans(&self, v: u32, faces: &[[u32; 3]], fans: &mut Vec<Fan>) {
+        fans.clear();
+        let incident = self.vertex_faces(v);
+        let mut visited = vec![false; incident.len()];
+        let slot_of = |f: u32| incident.iter().position(|&g| g == f);
+        // The two neighbours of `v` in face `f`, in the face's winding order after `v`.
+        let others = |f: u32| {
+            let t = faces[f as usize];
+            let c = t.iter().position(|&x| x == v).unwrap_or(0);
+            (t[(c + 1) % 3], t[(c + 2) % 3])
+        };
+        let edge_to = |f: u32, u: u32| {
+            let t = faces[f as usize];
+            let fe = self.face_edges[f as usize];
+            (0..3)
+                .find(|&s| {
+                    let (a, b) = (t[s], t[(s + 1) % 3]);
+                    (a == v && b == u) || (a == u && b == v)
+                })
+                .map(|s| fe[s])
+                .unwrap_or(NONE)
+        };
+        let crossable = |e: u32| e != NONE && self.edge_faces(e).len() == 2;
+
+        while let Some(first) = self.pick_fan_start(incident, &visited, &others, &edge_to) {
+            let f0 = incident[first];
+            let (a, b) = others(f0);
+            // Enter through the edge that cannot be crossed, if there is one.
+            let (entry, exit) = if !crossable(edge_to(f0, a)) || crossable(edge_to(f0, b)) {
+                (a, b)
+            } else {
+                (b, a)
+            };
+            let mut fan = Fan {
+                vertices: vec![entry, exit],
+                faces: vec![f0],
+                closed: false,
+            };
+            visited[first] = true;
+            let (mut f, mut w) = (f0, exit);
+            loop {
+                let e = edge_to(f, w);
+                if !crossable(e) {
+                    break;
+                }
+                let [g0, g1] = [self.edge_faces(e)[0], self.edge_faces(e)[1]];
+                let g = if g0 == f { g1 } else { g0 };
+                let Some(k) = slot_of(g) else { break };
+                if visited[k] {
+                    fan.closed = g == f0;
+                    break;
+                }
+                visited[k] = true;
+                let (x, y) = others(g);
+                let next = if x == w { y } else { x };
+                fan.faces.push(g);
+                f = g;
+                w = next;
+                fan.vertices.push(next);
+            }
+            if fan.closed {
+                // The last vertex pushed is the entry vertex again.
+                fan.vertices.pop();
+            }
+            fans.push(fan);
+        }
+    }
+
+    fn pick_fan_start(
+        &self,
+        incident: &[u32],
+        visited: &[bool],
+        others: &impl Fn(u32) -> (u32, u32),
+        edge_to: &impl Fn(u32, u32) -> u32,
+    ) -> Option<usize> {
+        let open_end = |f: u32| {
+            let (a, b) = others(f);
+            [a, b]
+                .iter()
+                .any(|&u| self.edge_faces(edge_to(f, u)).len() != 2)
+        };
+        let mut fallback = None;
+        for (k, &f) in incident.iter().enumerate() {
+            if visited[k] {
+                continue;
+            }
+            if open_end(f) {
+                return Some(k);
+            }
+            fallback.get_or_insert(k);
+        }
+        fallback
+    }
+
+    fn classify_vertex(&self, v: u32, faces: &[[u32; 3]], fans: &mut Vec<Fan>) -> VertexKind {
+        if self.vertex_faces(v).is_empty() {
+            return VertexKind::Unreferenced;
+        }
+        if self
+            .vertex_edges(v)
+            .iter()
+            .any(|&e| self.edge_faces(e).len() > 2)
+        {
+            return VertexKind::NonManifold;
+        }
+        self.walk_fans(v, faces, fans);
+        match fans.as_slice() {
+            [fan] if fan.closed => VertexKind::Interior,
+            [_] => VertexKind::Boundary,
+            _ => VertexKind::NonManifold,
+        }
+    }
+
+    /// Connected components over faces sharing a vertex: a component id per vertex
+    /// (`NONE` for unreferenced vertices) and the number of components.
+    pub fn vertex_components(&self, faces: &[[u32; 3]]) -> (Vec<u32>, usize) {
+        let n = self.num_vertices();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        fn find(parent: &mut [u32], mut x: u32) -> u32 {
+            while parent[x as usize] != x {
+                let p = parent[parent[x as usize] as usize];
+                parent[x as usize] = p;
+                x = p;
+            }
+            x
+        }
+        for t in faces {
+            for s in 1..3 {
+                let (a, b) = (find(&mut parent, t[0]), find(&mut parent, t[s]));
+                if a != b {
+                    parent[a.max(b) as usize] = a.min(b);
+                }
+            }
+        }
+        let mut id = vec![NONE; n];
+        let mut count = 0usize;
+        for v in 0..n as u32 {
+            if self.vertex_kinds[v as usize] == VertexKind::Unreferenced {
+                continue;
+            }
+            let r = find(&mut parent, v) as usize;
+            if id[r] == NONE {
+                id[r] = count as u32;
+                count += 1;
+            }
+            id[v as usize] = id[r];
+        }
+        (id, count)
+    }
+
+    /// Number of boundary loops: closed walks along boundary edges, following the direction
+    /// the faces give them where that is consistent.
+    pub fn boundary_loops(&self, faces: &[[u32; 3]]) -> usize {
+        // Directed boundary half-edges (as wound in their face), grouped by start vertex.
+        let boundary: Vec<(u32, u32, u32)> = self
+            .edges
+            .iter()
+            .enumerate()
+            .filter(|&(e, _)| self.edge_faces(e as u32).len() == 1)
+            .map(|(e, &[a, b])| {
+                let f = self.edge_faces(e as u32)[0];
+                let t = faces[f as usize];
+                let forward = (0..3).any(|s| t[s] == a && t[(s + 1) % 3] == b);
+                if forward {
+                    (a, b, e as u32)
+                } else {
+                    (b, a, e as u32)
+                }
+            })
+            .collect();
+        if boundary.is_empty() {
+            return 0;
+        }
+        let pairs = boundary
+            .iter()
+            .enumerate()
+            .map(|(i, &(a, _, _))| (a, i as u32));
+        let (out_off, out) = compressed_rows(self.num_vertices(), pairs);
+        let pairs_in = boundary
+            .iter()
+            .enumerate()
+            .map(|(i, &(_, b, _))| (b, i as u32));
+        let (in_off, inc) = compressed_rows(self.num_vertices(), pairs_in);
+        let row = |off: &[u32], data: &'_ [u32], v: u32| -> Vec<u32> {
+            data[off[v as usize] as usize..off[v as usize + 1] as usize].to_vec()
+        };
+        let mut used = vec![false; boundary.len()];
+        let mut loops = 0;
+        for start in 0..boundary.len() {
+            if used[start] {
+                continue;
+            }
+            loops += 1;
+            used[start] = true;
+            let origin = boundary[start].0;
+            let mut at = boundary[start].1;
+            while at != origin {
+                // Prefer continuing forward; fall back to a reversed edge (inconsistent winding).
+                let next = row(&out_off, &out, at)
+                    .into_iter()
+                    .find(|&i| !used[i as usize])
+                    .map(|i| (i, boundary[i as usize].1))
+                    .or_else(|| {
+                        row(&in_off, &inc, at)
+                            .into_iter()
+                            .find(|&i| !used[i as usize])
+                            .map(|i| (i, boundary[i as usize].0))
+                    });
+                let Some((i, to)) = next else { break };
+                used[i as usize] = true;
+                at = to;
+            }
+        }
+        loops
+    }
+}
+
+/// Compressed rows from (row, value) pairs: offsets of length `rows + 1` and values grouped by
+/// row, in the order the pairs came.
+fn compressed_rows(
+    rows: usize,
+    pairs: impl Iterator<Item = (u32, u32)> + Clone,
+) -> (Vec<u32>, Vec<u32>) {
+    let mut offsets = vec![0u32; rows + 1];
+    for (r, _) in pairs.clone() {
+        offsets[r as usize + 1] += 1;
+    }
+    for i in 0..rows {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut cursor = offsets.clone();
+    let mut values = vec![0u32; offsets[rows] as usize];
+    for (r, x) in pairs {
+        let c = &mut cursor[r as usize];
+        values[*c as usize] = x;
+        *c += 1;
+    }
+    (offsets, values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A square split into two triangles, both counter-clockwise from +z.
+    fn square() -> Vec<[u32; 3]> {
+        vec![[0, 1, 2], [0, 2, 3]]
+    }
+
+    /// An octahedron, outward-wound.
+    fn octahedron() -> Vec<[u32; 3]> {
+        vec![
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ]
+    }
+
+    #[test]
+    fn square_edges_and_kinds() {
+        let t = Topology::build(4, &square());
+        assert_eq!(t.num_edges(), 5);
+        let diagonal = t.face_edges(0)[2];
+        assert_eq!(t.edge(diagonal), [0, 2]);
+        assert_eq!(t.edge_kind(diagonal), EdgeKind::Manifold);
+        assert_eq!(t.face_across(0, 2), Some(1));
+        assert_eq!(t.face_across(0, 0), None);
+        assert!(t.vertex_kinds().iter().all(|&k| k == VertexKind::Boundary));
+        assert_eq!(t.boundary_loops(&square()), 1);
+    }
+
+    #[test]
+    fn boundary_fan_is_ordered_from_the_boundary() {
+        let faces = square();
+        let t = Topology::build(4, &faces);
+        let fans = t.fans(0, &faces);
+        assert_eq!(fans.len(), 1);
+        assert!(!fans[0].closed);
+        assert_eq!(fans[0].vertices, vec![1, 2, 3]);
+        assert_eq!(fans[0].faces, vec![0, 1]);
+    }
+
+    #[test]
+    fn octahedron_rings_are_closed_and_counter_clockwise() {
+        let faces = octahedron();
+        let t = Topology::build(6, &faces);
+        assert_eq!(t.num_edges(), 12);
+        assert!(t.vertex_kinds().iter().all(|&k| k == VertexKind::Interior));
+        let fans = t.fans(4, &faces);
+        assert_eq!(fans.len(), 1);
+        assert!(fans[0].closed);
+        assert_eq!(fans[0].vertices.len(), 4);
+        assert_eq!(fans[0].faces.len(), 4);
+        // Around the apex 4 the ring is 0, 2, 1, 3 (up to a rotation).
+        let ring = &fans[0].vertices;
+        let k = ring.iter().position(|&x| x == 0).unwrap();
+        let rotated: Vec<u32> = (0..4).map(|i| ring[(k + i) % 4]).collect();
+        assert_eq!(rotated, vec![0, 2, 1, 3]);
+        assert_eq!(t.boundary_loops(&faces), 0);
+    }
+
+    #[test]
+    fn ring_survives_a_flipped_face() {
+        let mut faces = octahedron();
+        faces[1] = [1, 2, 4];
+        let t = Topology::build(6, &faces);
+        assert_eq!(t.vertex_kind(4), VertexKind::Interior);
+        assert_eq!(t.fans(4, &faces)[0].vertices.len(), 4);
+    }
+
+    #[test]
+    fn bowtie_and_fin_are_non_manifold() {
+        // Two triangles sharing only vertex 0.
+        let bowtie = vec![[0, 1, 2], [0, 3, 4]];
+        let t = Topology::build(5, &bowtie);
+        assert_eq!(t.vertex_kind(0), VertexKind::NonManifold);
+        assert_eq!(t.fans(0, &bowtie).len(), 2);
+        assert_eq!(t.vertex_kind(1), VertexKind::Boundary);
+        assert_eq!(t.boundary_loops(&bowtie), 2);
+        // Three triangles on one edge.
+        let fin = vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]];
+        let t = Topology::build(5, &fin);
+        let e = t.face_edges(0)[0];
+        assert_eq!(t.edge_kind(e), EdgeKind::NonManifold);
+        assert_eq!(t.vertex_kind(0), VertexKind::NonManifold);
+        assert_eq!(t.vertex_kind(2), VertexKind::Boundary);
+    }
+
+    #[test]
+    fn components_and_unreferenced() {
+        let faces = vec![[0, 1, 2], [3, 4, 5]];
+        let t = Topology::build(7, &faces);
+        let (id, n) = t.vertex_components(&faces);
+        assert_eq!(n, 2);
+        assert_eq!(id[6], NONE);
+        assert_eq!(t.vertex_kind(6), VertexKind::Unreferenced);
+        assert_ne!(id[0], id[3]);
+    }
+}

@@ -1,0 +1,270 @@
+//! Generated meshes of analytic surfaces with known curvature, used by tests, benchmarks and
+//! the built-in example.
+//!
+//! Every closed shape is wound counter-clockwise seen from outside, so face and vertex
+//! normals point outward. Vertices lie exactly on the analytic surface.
+
+use std::f64::consts::{PI, TAU};
+
+use crate::mesh::{TriMesh, Vec3};
+
+fn build(positions: Vec<Vec3>, faces: Vec<[u32; 3]>) -> TriMesh {
+    match TriMesh::new(positions, faces) {
+        Ok(m) => m,
+        // Generators only emit finite positions and in-range indices.
+        Err(e) => unreachable!("generated mesh is invalid: {e}"),
+    }
+}
+
+/// An icosahedron subdivided `subdivisions` times, projected on the sphere of `radius`
+/// (20 · 4^s faces).
+pub fn icosphere(radius: f64, subdivisions: u32) -> TriMesh {
+    let (positions, faces) = unit_icosphere(subdivisions);
+    build(positions.into_iter().map(|p| p * radius).collect(), faces)
+}
+
+fn unit_icosphere(subdivisions: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut positions: Vec<Vec3> = [
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ]
+    .iter()
+    .map(|&p| Vec3::from(p).normalize())
+    .collect();
+    let mut faces: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdivisions {
+        let mut midpoint = std::collections::HashMap::new();
+        let mut mid = |a: u32, b: u32, positions: &mut Vec<Vec3>| -> u32 {
+            let key = (a.min(b), a.max(b));
+            *midpoint.entry(key).or_insert_with(|| {
+                let p = (positions[a as usize] + positions[b as usize]).normalize();
+                positions.push(p);
+                (positions.len() - 1) as u32
+            })
+        };
+        let mut next = Vec::with_capacity(faces.len() * 4);
+        for [a, b, c] in faces {
+            let ab = mid(a, b, &mut positions);
+            let bc = mid(b, c, &mut positions);
+            let ca = mid(c, a, &mut positions);
+            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        faces = next;
+    }
+    (positions, faces)
+}
+
+/// A triaxial ellipsoid x²/a² + y²/b² + z²/c² = 1: an icosphere scaled along the axes.
+pub fn ellipsoid(a: f64, b: f64, c: f64, subdivisions: u32) -> TriMesh {
+    let (positions, faces) = unit_icosphere(subdivisions);
+    let positions = positions
+        .into_iter()
+        .map(|p| Vec3::new(a * p.x, b * p.y, c * p.z))
+        .collect();
+    build(positions, faces)
+}
+
+/// A grid over the parameter rectangle [0, 1]² mapped through `f`, `nu` × `nv` cells, each
+/// split into two triangles along alternating diagonals. `wrap_u`/`wrap_v` join the last
+/// column/row to the first (periodic directions).
+fn parametric(
+    nu: usize,
+    nv: usize,
+    wrap_u: bool,
+    wrap_v: bool,
+    f: impl Fn(f64, f64) -> Vec3,
+) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let cols = if wrap_u { nu } else { nu + 1 };
+    let rows = if wrap_v { nv } else { nv + 1 };
+    let mut positions = Vec::with_capacity(cols * rows);
+    for j in 0..rows {
+        for i in 0..cols {
+            positions.push(f(i as f64 / nu as f64, j as f64 / nv as f64));
+        }
+    }
+    let id = |i: usize, j: usize| ((j % rows) * cols + (i % cols)) as u32;
+    let mut faces = Vec::with_capacity(2 * nu * nv);
+    for j in 0..nv {
+        for i in 0..nu {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if (i + j) % 2 == 0 {
+                faces.extend([[a, b, c], [a, c, d]]);
+            } else {
+                faces.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
+    (positions, faces)
+}
+
+/// A torus around the z axis with tube centre radius `major` and tube radius `minor`.
+/// Principal curvatures: 1/minor across the tube and cos φ / (major + minor cos φ) along it.
+pub fn torus(major: f64, minor: f64, n_major: usize, n_minor: usize) -> TriMesh {
+    let (p, f) = parametric(n_major, n_minor, true, true, |u, v| {
+        let (theta, phi) = (TAU * u, TAU * v);
+        let r = major + minor * phi.cos();
+        Vec3::new(r * theta.cos(), r * theta.sin(), minor * phi.sin())
+    });
+    build(p, f)
+}
+
+/// An open cylinder of `radius` around the z axis from z = 0 to z = `height`
+/// (k_max = 1/radius around, k_min = 0 along).
+pub fn cylinder(radius: f64, height: f64, n_around: usize, n_along: usize) -> TriMesh {
+    let (p, f) = parametric(n_around, n_along, true, false, |u, v| {
+        let theta = TAU * u;
+        Vec3::new(radius * theta.cos(), radius * theta.sin(), height * v)
+    });
+    build(p, f)
+}
+
+/// The graph z = h(x, y) over [x0, x1] × [y0, y1] on an `nx` × `ny` grid, normal up (+z).
+pub fn height_field(
+    h: impl Fn(f64, f64) -> f64,
+    [x0, x1]: [f64; 2],
+    [y0, y1]: [f64; 2],
+    nx: usize,
+    ny: usize,
+) -> TriMesh {
+    let (p, f) = parametric(nx, ny, false, false, |u, v| {
+        let (x, y) = (x0 + (x1 - x0) * u, y0 + (y1 - y0) * v);
+        Vec3::new(x, y, h(x, y))
+    });
+    build(p, f)
+}
+
+/// The waving surface of YBS 2005, z = cos(sqrt(x² + y²)), over the square [-r, r]² on an
+/// `n` × `n` grid. Its exact crest lines are the circles sqrt(x² + y²) = kπ.
+pub fn waving_surface(r: f64, n: usize) -> TriMesh {
+    height_field(|x, y| (x * x + y * y).sqrt().cos(), [-r, r], [-r, r], n, n)
+}
+
+/// A capsule: a cylinder of `radius` and length `length` along z capped by hemispheres.
+/// `n` sets the resolution (segments around).
+pub fn capsule(radius: f64, length: f64, n: usize) -> TriMesh {
+    let n_cap = (n / 4).max(2);
+    let n_side = ((length / (TAU * radius / n as f64)).round() as usize).max(1);
+    let rows = 2 * n_cap + n_side;
+    // Latitude profile: (ring radius, z) for rows 0..=rows, poles excluded by clamping.
+    let profile = |j: usize| -> (f64, f64) {
+        if j <= n_cap {
+            let a = PI / 2.0 * (1.0 - j as f64 / n_cap as f64);
+            (radius * a.cos(), -length / 2.0 - radius * a.sin())
+        } else if j < n_cap + n_side {
+            let t = (j - n_cap) as f64 / n_side as f64;
+            (radius, -length / 2.0 + length * t)
+        } else {
+            let a = PI / 2.0 * ((j - n_cap - n_side) as f64 / n_cap as f64);
+            (radius * a.cos(), length / 2.0 + radius * a.sin())
+        }
+    };
+    revolve(rows, n, profile)
+}
+
+/// A surface of revolution about z from a profile `(ring radius, z)` sampled at rows 0..=rows,
+/// where rows 0 and `rows` must be poles (radius 0).
+fn revolve(rows: usize, n: usize, profile: impl Fn(usize) -> (f64, f64)) -> TriMesh {
+    let mut positions = vec![Vec3::new(0.0, 0.0, profile(0).1)];
+    for j in 1..rows {
+        let (r, z) = profile(j);
+        for i in 0..n {
+            let a = TAU * i as f64 / n as f64;
+            positions.push(Vec3::new(r * a.cos(), r * a.sin(), z));
+        }
+    }
+    positions.push(Vec3::new(0.0, 0.0, profile(rows).1));
+    let top = (positions.len() - 1) as u32;
+    let ring = |j: usize, i: usize| (1 + (j - 1) * n + i % n) as u32;
+    let mut faces = Vec::new();
+    for i in 0..n {
+        faces.push([0, ring(1, i + 1), ring(1, i)]);
+    }
+    for j in 1..rows - 1 {
+        for i in 0..n {
+            let (a, b, c, d) = (
+                ring(j, i),
+                ring(j, i + 1),
+                ring(j + 1, i + 1),
+                ring(j + 1, i),
+            );
+            faces.extend([[a, b, c], [a, c, d]]);
+        }
+    }
+    for i in 0..n {
+        faces.push([top, ring(rows - 1, i), ring(rows - 1, i + 1)]);
+    }
+    build(positions, faces)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outward(m: &TriMesh, center: Vec3) -> bool {
+        let n = crate::mesh::face_normals(m);
+        (0..m.num_faces()).all(|f| {
+            let [a, b, c] = m.triangle(f);
+            n[f].dot(&((a + b + c) / 3.0 - center)) > 0.0
+        })
+    }
+
+    #[test]
+    fn closed_shapes_are_closed_and_outward() {
+        for (m, chi) in [
+            (icosphere(2.0, 2), 2),
+            (ellipsoid(3.0, 2.0, 1.0, 2), 2),
+            (torus(3.0, 1.0, 24, 12), 0),
+            (capsule(1.0, 2.0, 16), 2),
+        ] {
+            let info = m.info();
+            assert!(info.closed, "{info}");
+            assert_eq!(info.euler_characteristic, chi);
+            assert_eq!(info.non_manifold_vertices, 0);
+        }
+        assert!(outward(&icosphere(1.0, 1), Vec3::zeros()));
+        assert!(outward(&ellipsoid(3.0, 2.0, 1.0, 1), Vec3::zeros()));
+        assert!(outward(&capsule(1.0, 2.0, 12), Vec3::zeros()));
+    }
+
+    #[test]
+    fn open_shapes_have_boundaries() {
+        let c = cylinder(1.0, 2.0, 16, 4).info();
+        assert_eq!(c.boundary_loops, 2);
+        assert_eq!(c.boundary_edges, 32);
+        let w = waving_surface(5.0, 10).info();
+        assert_eq!(w.boundary_loops, 1);
+        assert_eq!(w.faces, 200);
+    }
+}
