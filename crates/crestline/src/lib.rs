@@ -19,8 +19,10 @@
 //! Ridges: `e_max = 0`, `de_max/dt_max < 0`, `k_max > |k_min|`.
 //! Valleys: `e_min = 0`, `de_min/dt_min > 0`, `k_min < -|k_max|`.
 
+pub mod curvature;
 pub mod error;
 pub mod io;
+pub mod lines;
 pub mod mesh;
 pub mod shapes;
 
