@@ -25,6 +25,7 @@ pub mod io;
 pub mod lines;
 pub mod mesh;
 pub mod shapes;
+pub mod smoothing;
 
 pub use error::{Error, Location, Result};
 pub use mesh::{MeshInfo, TriMesh, Vec3};
