@@ -88,22 +88,16 @@ pub fn assemble_lines(
             }
         }
     };
-    for n in 0..nodes.len() {
-        if degree(n) == 2 {
-            continue;
-        }
-        for k in offsets[n]..offsets[n + 1] {
-            let l = incident[k];
-            if !used[l] {
-                paths.push(walk(n, l, &mut used));
+    // Lines between ends and junctions first; what remains are closed loops.
+    for ends_only in [true, false] {
+        for n in 0..nodes.len() {
+            if ends_only && degree(n) == 2 {
+                continue;
             }
-        }
-    }
-    for n in 0..nodes.len() {
-        for k in offsets[n]..offsets[n + 1] {
-            let l = incident[k];
-            if !used[l] {
-                paths.push(walk(n, l, &mut used));
+            for &l in &incident[offsets[n]..offsets[n + 1]] {
+                if !used[l] {
+                    paths.push(walk(n, l, &mut used));
+                }
             }
         }
     }

@@ -32,7 +32,7 @@ impl Default for Fairing {
 
 /// Fairs every line in place and updates its length.
 pub fn fair_lines(lines: &mut FeatureLines, options: &Fairing) {
-    if !(options.tolerance > 0.0) || options.iterations == 0 {
+    if options.tolerance.is_nan() || options.tolerance <= 0.0 || options.iterations == 0 {
         return;
     }
     for line in &mut lines.lines {
