@@ -13,7 +13,7 @@
 
 use crate::mesh::{TriMesh, Vec3};
 
-use super::trace::{Family, FamilySegments, Node, node_position, node_weights};
+use super::trace::{Family, FamilySegments, Node, node_position};
 use super::{FeatureLine, SurfacePoint};
 
 /// Joins the segments of one family into polylines.
@@ -114,40 +114,72 @@ pub fn assemble_lines(
 /// A [`FeatureLine`] through `path`, with length and strengths.
 fn build_line(mesh: &TriMesh, family: &Family<'_>, path: &[Node], closed: bool) -> FeatureLine {
     let topo = mesh.topology();
-    let mut points = Vec::with_capacity(path.len());
-    let mut locations = Vec::with_capacity(path.len());
-    let mut k_abs = Vec::with_capacity(path.len());
-    let mut cyclideness = Vec::with_capacity(path.len());
-    for &node in path {
-        points.push(node_position(mesh, family, node));
-        locations.push(match node {
-            Node::Edge(e) => {
-                let [a, b] = topo.edge(e);
-                SurfacePoint::Edge {
-                    edge: e,
-                    t: family.crossing(a, b).unwrap_or(0.5),
-                }
-            }
-            Node::Face(f) => SurfacePoint::Face { face: f },
-        });
-        let (mut k, mut c) = (0.0, 0.0);
-        for (v, w) in node_weights(mesh, family, node) {
-            let v = v as usize;
-            k += w * family.k[v];
-            c += w * family.e[v].hypot(family.e_other[v]);
-        }
-        k_abs.push(k.abs());
-        cyclideness.push(c);
-    }
-    let (length, curvature_integral, c_integral) = integrate(&points, &k_abs, &cyclideness, closed);
-    FeatureLine {
+    let mut line = FeatureLine {
         kind: family.kind,
-        points,
-        locations,
+        points: path
+            .iter()
+            .map(|&n| node_position(mesh, family, n))
+            .collect(),
+        locations: path
+            .iter()
+            .map(|&node| match node {
+                Node::Edge(e) => {
+                    let [a, b] = topo.edge(e);
+                    SurfacePoint::Edge {
+                        edge: e,
+                        t: family.crossing(a, b).unwrap_or(0.5),
+                    }
+                }
+                Node::Face(f) => SurfacePoint::Face { face: f },
+            })
+            .collect(),
         closed,
-        length,
-        curvature_integral,
-        strength: length * c_integral,
+        length: 0.0,
+        curvature_integral: 0.0,
+        strength: 0.0,
+    };
+    measure_line(mesh, family, &mut line);
+    line
+}
+
+/// Recomputes a line's length, `∫|k| ds` and `T = ∫ds · ∫C ds` from its points and surface
+/// locations (values interpolated linearly from the vertices). Lines without locations only
+/// get their length.
+pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine) {
+    let n = line.points.len();
+    let mut k_abs = vec![0.0; n];
+    let mut cyclideness = vec![0.0; n];
+    if line.locations.len() == n {
+        for (i, location) in line.locations.iter().enumerate() {
+            let (mut k, mut c) = (0.0, 0.0);
+            for (v, w) in location_weights(mesh, *location) {
+                let v = v as usize;
+                k += w * family.k[v];
+                c += w * family.e[v].hypot(family.e_other[v]);
+            }
+            k_abs[i] = k.abs();
+            cyclideness[i] = c;
+        }
+    }
+    let (length, k_integral, c_integral) =
+        integrate(&line.points, &k_abs, &cyclideness, line.closed);
+    line.length = length;
+    line.curvature_integral = k_integral;
+    line.strength = length * c_integral;
+}
+
+/// Linear interpolation weights of a surface point over mesh vertices.
+pub fn location_weights(mesh: &TriMesh, location: SurfacePoint) -> Vec<(u32, f64)> {
+    match location {
+        SurfacePoint::Edge { edge, t } => {
+            let [a, b] = mesh.topology().edge(edge);
+            vec![(a, 1.0 - t), (b, t)]
+        }
+        SurfacePoint::Face { face } => mesh.faces()[face as usize]
+            .iter()
+            .map(|&v| (v, 1.0 / 3.0))
+            .collect(),
+        SurfacePoint::Vertex(v) => vec![(v, 1.0)],
     }
 }
 

@@ -4,12 +4,17 @@
 //! [`trace`] (regular triangles, sec. 4.1), [`singular`] (sec. 4.2), [`assemble`] (maximal
 //! polylines and their strengths), [`filter`] (thresholds), [`fair`] (spatial fairing,
 //! sec. 5.2). [`trace_lines`] runs steps 4–6 for both families.
+//!
+//! YBS 2005 trace edge by edge instead ([`trace_edges`], after Ohtake et al. 2004) and join
+//! broken pieces by gap jumping ([`gap`]); [`trace_crest_lines`] runs that for both families.
 
 pub mod assemble;
 pub mod fair;
 pub mod filter;
+pub mod gap;
 pub mod singular;
 pub mod trace;
+pub mod trace_edges;
 
 use crate::curvature::Curvature;
 use crate::mesh::{TriMesh, Vec3};
@@ -116,4 +121,25 @@ pub fn trace_lines(mesh: &TriMesh, curvature: &Curvature) -> (FeatureLines, Trac
         lines.extend(assemble::assemble_lines(mesh, &family, &segments));
     }
     (FeatureLines { lines }, report)
+}
+
+/// YBS tracing for both families: crest points edge by edge, joined inside triangles, then
+/// gap jumping. Returns the lines and the number of gaps jumped.
+pub fn trace_crest_lines(
+    mesh: &TriMesh,
+    curvature: &Curvature,
+    gaps: Option<&gap::GapJumping>,
+) -> (FeatureLines, usize) {
+    let mut lines = Vec::new();
+    let mut joins = 0;
+    for kind in [LineKind::Ridge, LineKind::Valley] {
+        let family = trace::Family::of(curvature, kind);
+        let segments = trace_edges::trace_crest_edges(mesh, &family);
+        let mut family_lines = assemble::assemble_lines(mesh, &family, &segments);
+        if let Some(options) = gaps {
+            joins += gap::jump_gaps(mesh, &family, &mut family_lines, options);
+        }
+        lines.extend(family_lines);
+    }
+    (FeatureLines { lines }, joins)
 }

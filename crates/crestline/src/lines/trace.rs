@@ -218,21 +218,6 @@ pub fn node_position(mesh: &TriMesh, family: &Family<'_>, node: Node) -> Vec3 {
     }
 }
 
-/// Interpolation weights of a node over mesh vertices: `(vertex, weight)` pairs.
-pub fn node_weights(mesh: &TriMesh, family: &Family<'_>, node: Node) -> Vec<(u32, f64)> {
-    match node {
-        Node::Edge(e) => {
-            let [a, b] = mesh.topology().edge(e);
-            let t = family.crossing(a, b).unwrap_or(0.5);
-            vec![(a, 1.0 - t), (b, t)]
-        }
-        Node::Face(f) => mesh.faces()[f as usize]
-            .iter()
-            .map(|&v| (v, 1.0 / 3.0))
-            .collect(),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
