@@ -391,28 +391,31 @@ struct Block<'a> {
     big_endian: bool,
 }
 
+/// Reads a `$t` from the start of `$bytes` in the given byte order, returning `None` from
+/// the enclosing function when the bytes are too few.
+macro_rules! scalar_from {
+    ($bytes:ident, $big_endian:ident, $t:ty) => {{
+        let b = *$bytes.first_chunk::<{ std::mem::size_of::<$t>() }>()?;
+        if $big_endian {
+            <$t>::from_be_bytes(b)
+        } else {
+            <$t>::from_le_bytes(b)
+        }
+    }};
+}
+
 /// Decodes one binary scalar from the start of `bytes` as `f64` (`None` if too short).
 #[inline]
 fn decode_f64(ty: Scalar, big_endian: bool, bytes: &[u8]) -> Option<f64> {
-    macro_rules! decode {
-        ($t:ty) => {{
-            let b = *bytes.first_chunk::<{ std::mem::size_of::<$t>() }>()?;
-            if big_endian {
-                <$t>::from_be_bytes(b)
-            } else {
-                <$t>::from_le_bytes(b)
-            }
-        }};
-    }
     Some(match ty {
-        Scalar::I8 => f64::from(decode!(i8)),
-        Scalar::U8 => f64::from(decode!(u8)),
-        Scalar::I16 => f64::from(decode!(i16)),
-        Scalar::U16 => f64::from(decode!(u16)),
-        Scalar::I32 => f64::from(decode!(i32)),
-        Scalar::U32 => f64::from(decode!(u32)),
-        Scalar::F32 => f64::from(decode!(f32)),
-        Scalar::F64 => decode!(f64),
+        Scalar::I8 => f64::from(scalar_from!(bytes, big_endian, i8)),
+        Scalar::U8 => f64::from(scalar_from!(bytes, big_endian, u8)),
+        Scalar::I16 => f64::from(scalar_from!(bytes, big_endian, i16)),
+        Scalar::U16 => f64::from(scalar_from!(bytes, big_endian, u16)),
+        Scalar::I32 => f64::from(scalar_from!(bytes, big_endian, i32)),
+        Scalar::U32 => f64::from(scalar_from!(bytes, big_endian, u32)),
+        Scalar::F32 => f64::from(scalar_from!(bytes, big_endian, f32)),
+        Scalar::F64 => scalar_from!(bytes, big_endian, f64),
     })
 }
 
@@ -420,25 +423,15 @@ fn decode_f64(ty: Scalar, big_endian: bool, bytes: &[u8]) -> Option<f64> {
 /// indices; should one get here it is truncated towards zero).
 #[inline]
 fn decode_i64(ty: Scalar, big_endian: bool, bytes: &[u8]) -> Option<i64> {
-    macro_rules! decode {
-        ($t:ty) => {{
-            let b = *bytes.first_chunk::<{ std::mem::size_of::<$t>() }>()?;
-            if big_endian {
-                <$t>::from_be_bytes(b)
-            } else {
-                <$t>::from_le_bytes(b)
-            }
-        }};
-    }
     Some(match ty {
-        Scalar::I8 => i64::from(decode!(i8)),
-        Scalar::U8 => i64::from(decode!(u8)),
-        Scalar::I16 => i64::from(decode!(i16)),
-        Scalar::U16 => i64::from(decode!(u16)),
-        Scalar::I32 => i64::from(decode!(i32)),
-        Scalar::U32 => i64::from(decode!(u32)),
-        Scalar::F32 => decode!(f32) as i64,
-        Scalar::F64 => decode!(f64) as i64,
+        Scalar::I8 => i64::from(scalar_from!(bytes, big_endian, i8)),
+        Scalar::U8 => i64::from(scalar_from!(bytes, big_endian, u8)),
+        Scalar::I16 => i64::from(scalar_from!(bytes, big_endian, i16)),
+        Scalar::U16 => i64::from(scalar_from!(bytes, big_endian, u16)),
+        Scalar::I32 => i64::from(scalar_from!(bytes, big_endian, i32)),
+        Scalar::U32 => i64::from(scalar_from!(bytes, big_endian, u32)),
+        Scalar::F32 => scalar_from!(bytes, big_endian, f32) as i64,
+        Scalar::F64 => scalar_from!(bytes, big_endian, f64) as i64,
     })
 }
 
