@@ -38,8 +38,9 @@ impl From<FormatArg> for Format {
 pub fn load_mesh(path: Option<&PathBuf>, format: Option<FormatArg>) -> Result<(TriMesh, String)> {
     match path {
         Some(p) => {
+            // Every reading error already names the file (and the position in it).
             let mesh = crestline::io::read_mesh(p, format.map(Into::into))
-                .with_context(|| format!("cannot load {}", p.display()))?;
+                .context("cannot load the mesh")?;
             Ok((mesh, p.display().to_string()))
         }
         None => {
