@@ -21,6 +21,7 @@
 
 pub mod curvature;
 pub mod error;
+pub mod extract;
 pub mod extremality;
 pub mod io;
 pub mod lines;
