@@ -26,6 +26,7 @@ pub mod lines;
 pub mod mesh;
 pub mod render;
 pub mod shapes;
+pub mod smoothing;
 
 pub use error::{Error, Location, Result};
 pub use mesh::{MeshInfo, TriMesh, Vec3};
