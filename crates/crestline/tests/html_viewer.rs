@@ -137,12 +137,16 @@ fn count_not_white(img: &tiny_skia::Pixmap) -> usize {
 #[test]
 fn viewer_draws_in_chromium_and_toggles_change_the_picture() {
     let Some(chromium) = find_chromium() else {
-        eprintln!(
+        let message = format!(
             "\n*** SKIPPED viewer_draws_in_chromium_and_toggles_change_the_picture: no Chromium \
              binary found (looked for {} in PATH and CRESTLINE_CHROMIUM). Install it with \
              `apt-get install -y chromium` to run this test. ***\n",
             CANDIDATES.join(", ")
         );
+        eprintln!("{message}");
+        // The test harness captures eprintln! of passing tests; writing to the stderr handle
+        // itself is not captured, so the skip shows in a plain `cargo test` run.
+        let _ = std::io::Write::write_all(&mut std::io::stderr(), message.as_bytes());
         return;
     };
     let work = fresh_dir("html-viewer");

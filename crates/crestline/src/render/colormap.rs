@@ -186,15 +186,16 @@ pub fn percentile_range(values: &[f64], p: f64) -> Option<(f64, f64)> {
     Some((lo, hi))
 }
 
-/// Width in pixels of the strip at the right of the image kept for the legend.
+/// Width in pixels of the strip at the right of the image kept for the legend (at most
+/// half the image).
 pub fn legend_width(width: usize, height: usize) -> usize {
-    (width.min(height) * 20 / 100).max(48)
+    (width.min(height) * 20 / 100).max(48).min(width / 2)
 }
 
 /// Draws the legend into the right strip of `rgba`: a vertical colour bar, the values at
 /// its ends (and 0 at its middle for a diverging scale) and the title above.
 pub fn draw_legend(rgba: &mut [u8], width: usize, height: usize, scale: &ColorScale, title: &str) {
-    let strip = legend_width(width, height).min(width / 2);
+    let strip = legend_width(width, height);
     let text_scale = (width.min(height) / 300).max(1);
     let bar_w = (strip / 6).max(4);
     let bar_h = height / 2;

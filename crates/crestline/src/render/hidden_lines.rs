@@ -73,10 +73,10 @@ fn strokes_of_line(
 ) -> Vec<VisibleStroke> {
     let n = line.points.len();
     let projected: Vec<[f64; 3]> = line.points.iter().map(|p| camera.project(p)).collect();
-    let closing = usize::from(line.closed && n > 2);
+    let closing = line.closed && n > 2;
     let segments = (0..n.saturating_sub(1))
         .map(|i| (i, i + 1))
-        .chain((closing == 1).then_some((n - 1, 0)));
+        .chain(closing.then_some((n - 1, 0)));
     let mut runs: Vec<Vec<[f64; 2]>> = Vec::new();
     let mut run: Option<Vec<[f64; 2]>> = None;
     for (i, j) in segments {

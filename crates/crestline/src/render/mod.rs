@@ -301,6 +301,12 @@ pub fn render_frame(
     opts: &RenderOptions,
 ) -> Result<Frame> {
     opts.validate()?;
+    if mesh.num_faces() >= raster::NO_FACE as usize {
+        return Err(Error::InvalidInput(format!(
+            "{} faces is more than the renderer indexes",
+            mesh.num_faces()
+        )));
+    }
     let scale = field_scale(mesh, field, opts)?;
     let (width, height) = (opts.width as usize, opts.height as usize);
     let legend_width = match scale {
@@ -310,7 +316,7 @@ pub fn render_frame(
     let viewport = Viewport {
         x: 0.0,
         y: 0.0,
-        width: (width - legend_width.min(width / 2)) as f64,
+        width: (width - legend_width) as f64,
         height: height as f64,
     };
     let camera = Camera::orbit(opts.azimuth, opts.elevation, opts.up).fit(
