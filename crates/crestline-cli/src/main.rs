@@ -5,6 +5,7 @@
 
 mod cmd;
 mod input;
+mod scene;
 
 use clap::{Parser, Subcommand};
 
@@ -22,6 +23,10 @@ enum Command {
     Extract(Box<cmd::extract::Args>),
     /// Print counts and health figures of a mesh.
     Info(cmd::info::Args),
+    /// Draw a mesh, its feature lines and a field as a PNG or SVG picture.
+    Render(cmd::render::Args),
+    /// Write a self-contained HTML viewer (WebGL) of a mesh, its lines and a field.
+    View(cmd::view::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -29,6 +34,8 @@ fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Extract(args) => cmd::extract::run(*args),
         Command::Info(args) => cmd::info::run(args),
+        Command::Render(args) => cmd::render::run(args),
+        Command::View(args) => cmd::view::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

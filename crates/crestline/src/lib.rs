@@ -27,6 +27,7 @@ pub mod io;
 pub mod lines;
 pub mod mesh;
 pub mod saliency;
+pub mod render;
 pub mod shapes;
 pub mod smoothing;
 pub mod spatial;

@@ -2,3 +2,5 @@
 
 pub mod extract;
 pub mod info;
+pub mod render;
+pub mod view;
