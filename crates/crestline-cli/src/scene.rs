@@ -156,28 +156,32 @@ impl SceneArgs {
 }
 
 /// Reads a lines-OBJ file.
-// GAP(render): needs the lines reader of the io branch (`io/lines.rs`), not on main yet.
 fn read_lines(path: &std::path::Path) -> Result<FeatureLines> {
-    bail!(
-        "{}: reading feature-line files is not available yet (the lines reader of crestline::io \
-         has not landed)",
-        path.display()
-    )
+    Ok(crestline::io::lines::read_lines_obj(path)?)
 }
 
-/// Computes the per-vertex field `field` on `mesh`.
-// GAP(render): needs `crestline::curvature::estimate` (curvature branch) and the saliency and
-// feature-distance steps, none on main yet.
+/// Computes the per-vertex field `field` on `mesh` (curvature by the default estimator).
 fn compute_field(
     mesh: &TriMesh,
     lines: Option<&FeatureLines>,
     field: FieldArg,
 ) -> Result<Vec<f64>> {
-    let _ = (mesh, lines);
-    bail!(
-        "--field {} is not available yet: the estimator it needs has not landed",
-        field.name()
-    )
+    use crestline::curvature::{CurvatureOptions, estimate};
+    let _ = lines;
+    if field == FieldArg::FeatureDistance {
+        bail!("--field feature_distance is not available yet (the feature-distance step has not landed)");
+    }
+    let c = estimate(mesh, &CurvatureOptions::default())?;
+    Ok(match field {
+        FieldArg::KMax => c.k_max,
+        FieldArg::KMin => c.k_min,
+        FieldArg::EMax => c.e_max,
+        FieldArg::EMin => c.e_min,
+        FieldArg::Saliency => {
+            crestline::saliency::mesh_saliency(mesh, &c, &Default::default())?.saliency
+        }
+        FieldArg::FeatureDistance => Vec::new(),
+    })
 }
 
 /// Parses `AZ,EL` in degrees.
