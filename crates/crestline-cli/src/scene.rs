@@ -169,7 +169,9 @@ fn compute_field(
     use crestline::curvature::{CurvatureOptions, estimate};
     let _ = lines;
     if field == FieldArg::FeatureDistance {
-        bail!("--field feature_distance is not available yet (the feature-distance step has not landed)");
+        bail!(
+            "--field feature_distance is not available yet (the feature-distance step has not landed)"
+        );
     }
     let c = estimate(mesh, &CurvatureOptions::default())?;
     Ok(match field {

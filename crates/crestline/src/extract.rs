@@ -36,9 +36,9 @@ use crate::lines::link::{LinkOptions, link_feature_points};
 use crate::lines::{FeatureLines, LineKind, TraceReport, trace_crest_lines, trace_lines};
 use crate::mesh::TriMesh;
 use crate::saliency::{SaliencyOptions, mesh_saliency};
-use crate::threshold::{KneeSearch, seek_threshold};
 use crate::smoothing::extremality::{ExtremalitySmoothing, smooth_extremalities};
 use crate::smoothing::surface::{SurfaceSmoothing, smooth_surface};
+use crate::threshold::{KneeSearch, seek_threshold};
 
 /// Which paper's pipeline runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -66,8 +66,11 @@ pub struct ExtractOptions {
     /// Step 3: extremality smoothing. Default (HPW): 3 steps of size 1 (relative);
     /// (YBS): none, the paper does not smooth extremalities.
     pub smoothing: ExtremalitySmoothing,
-    /// Step 6: thresholds. Default (HPW): curvature integral ≥ [`HPW_DEFAULT_THRESHOLD`],
-    /// length ≥ 1% of the diagonal; (YBS): T ≥ [`YBS_DEFAULT_THRESHOLD`], length ≥ 1%.
+    /// Step 6: thresholds. Default (HPW): T ≥ [`HPW_DEFAULT_THRESHOLD`], length ≥ 1% of the
+    /// diagonal; (YBS): T ≥ [`YBS_DEFAULT_THRESHOLD`], length ≥ 1%. HPW filter with the
+    /// curvature integral of Ohtake et al.; that measure cannot tell spurious lines on Dupin
+    /// cyclides (a torus: ∫|k| ds is large along any line there) from crest lines, while T,
+    /// built on the cyclideness, is ≈ 0 on them — so T is the default for both methods.
     pub filter: LineFilter,
     /// Step 7: spatial fairing. Default: off.
     pub fairing: Fairing,
@@ -84,8 +87,9 @@ pub struct ExtractOptions {
     pub knee: KneeSearch,
 }
 
-/// Default threshold of the HPW pipeline on `∫|k| ds` (dimensionless).
-pub const HPW_DEFAULT_THRESHOLD: f64 = 3.0;
+/// Default threshold of the HPW pipeline on T (dimensionless). Measured: spurious lines on a
+/// torus have T ≈ 0.01, the ellipsoid's crest line T ≈ 40, fandisk's creases T ≈ 2 to 13.
+pub const HPW_DEFAULT_THRESHOLD: f64 = 1.0;
 /// Default threshold of the YBS pipeline on T (dimensionless, as in the paper's figures).
 pub const YBS_DEFAULT_THRESHOLD: f64 = 1.0;
 /// Default minimum line length, as a fraction of the bounding-box diagonal.
@@ -101,7 +105,7 @@ impl ExtractOptions {
                 curvature: CurvatureOptions::default().with_estimator(Estimator::ShapeOperator),
                 smoothing: ExtremalitySmoothing::default(),
                 filter: LineFilter {
-                    measure: StrengthMeasure::CurvatureIntegral,
+                    measure: StrengthMeasure::Cyclideness,
                     threshold: HPW_DEFAULT_THRESHOLD,
                     min_length: DEFAULT_MIN_LENGTH,
                 },
@@ -301,7 +305,13 @@ pub fn extract_with_progress(
             stats.threshold = threshold;
             // The threshold applies to points here; lines are only filtered by length.
             filter.threshold = f64::NEG_INFINITY;
-            link_feature_points(surface, &curvature, &saliency.saliency, threshold, &options.link)
+            link_feature_points(
+                surface,
+                &curvature,
+                &saliency.saliency,
+                threshold,
+                &options.link,
+            )
         }
     };
     stats.lines_traced = traced.lines.len();
