@@ -19,6 +19,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Find ridges and valleys and write them as polylines (OBJ, PLY or JSON).
+    Extract(Box<cmd::extract::Args>),
     /// Print counts and health figures of a mesh.
     Info(cmd::info::Args),
     /// Draw a mesh, its feature lines and a field as a PNG or SVG picture.
@@ -30,6 +32,7 @@ enum Command {
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Extract(args) => cmd::extract::run(*args),
         Command::Info(args) => cmd::info::run(args),
         Command::Render(args) => cmd::render::run(args),
         Command::View(args) => cmd::view::run(args),

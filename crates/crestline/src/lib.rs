@@ -21,12 +21,17 @@
 
 pub mod curvature;
 pub mod error;
+pub mod extract;
+pub mod extremality;
 pub mod io;
 pub mod lines;
 pub mod mesh;
+pub mod saliency;
 pub mod render;
 pub mod shapes;
 pub mod smoothing;
+pub mod spatial;
+pub mod threshold;
 
 pub use error::{Error, Location, Result};
 pub use mesh::{MeshInfo, TriMesh, Vec3};

@@ -27,27 +27,43 @@ pub fn assemble_lines(
     nodes.dedup();
     let index = |n: Node| nodes.binary_search(&n).unwrap_or(0);
 
-    // Unique undirected links without self-loops.
-    let mut links: Vec<(usize, usize)> = segments
+    let links: Vec<(usize, usize)> = segments
         .segments
         .iter()
         .map(|&[a, b]| (index(a), index(b)))
+        .collect();
+    let paths = chain_links(nodes.len(), &links);
+    paths
+        .into_iter()
+        .map(|(path, closed)| {
+            let path: Vec<Node> = path.into_iter().map(|i| nodes[i]).collect();
+            build_line(mesh, family, &path, closed)
+        })
+        .collect()
+}
+
+/// Splits a graph into maximal paths: each path runs between nodes whose degree is not 2
+/// (ends and junctions); what remains are cycles, returned with `true`. Duplicate links and
+/// self-loops are ignored. Deterministic: nodes are visited in index order.
+pub fn chain_links(num_nodes: usize, links: &[(usize, usize)]) -> Vec<(Vec<usize>, bool)> {
+    let mut links: Vec<(usize, usize)> = links
+        .iter()
         .filter(|(a, b)| a != b)
-        .map(|(a, b)| (a.min(b), a.max(b)))
+        .map(|&(a, b)| (a.min(b), a.max(b)))
         .collect();
     links.sort_unstable();
     links.dedup();
 
-    let mut offsets = vec![0usize; nodes.len() + 1];
+    let mut offsets = vec![0usize; num_nodes + 1];
     for &(a, b) in &links {
         offsets[a + 1] += 1;
         offsets[b + 1] += 1;
     }
-    for i in 0..nodes.len() {
+    for i in 0..num_nodes {
         offsets[i + 1] += offsets[i];
     }
     let mut cursor = offsets.clone();
-    let mut incident = vec![0usize; offsets[nodes.len()]];
+    let mut incident = vec![0usize; offsets[num_nodes]];
     for (l, &(a, b)) in links.iter().enumerate() {
         incident[cursor[a]] = l;
         cursor[a] += 1;
@@ -64,7 +80,6 @@ pub fn assemble_lines(
     };
 
     let mut used = vec![false; links.len()];
-    let mut paths: Vec<(Vec<usize>, bool)> = Vec::new();
     let walk = |start: usize, first: usize, used: &mut Vec<bool>| -> (Vec<usize>, bool) {
         let mut path = vec![start];
         let (mut at, mut via) = (start, first);
@@ -88,9 +103,10 @@ pub fn assemble_lines(
             }
         }
     };
-    // Lines between ends and junctions first; what remains are closed loops.
+    let mut paths = Vec::new();
+    // Paths between ends and junctions first; what remains are closed loops.
     for ends_only in [true, false] {
-        for n in 0..nodes.len() {
+        for n in 0..num_nodes {
             if ends_only && degree(n) == 2 {
                 continue;
             }
@@ -101,14 +117,7 @@ pub fn assemble_lines(
             }
         }
     }
-
     paths
-        .into_iter()
-        .map(|(path, closed)| {
-            let path: Vec<Node> = path.into_iter().map(|i| nodes[i]).collect();
-            build_line(mesh, family, &path, closed)
-        })
-        .collect()
 }
 
 /// A [`FeatureLine`] through `path`, with length and strengths.

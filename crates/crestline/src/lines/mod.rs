@@ -12,6 +12,7 @@ pub mod assemble;
 pub mod fair;
 pub mod filter;
 pub mod gap;
+pub mod link;
 pub mod singular;
 pub mod trace;
 pub mod trace_edges;
