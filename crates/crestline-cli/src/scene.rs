@@ -6,8 +6,12 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use crestline::TriMesh;
+use crestline::curvature::{CurvatureOptions, estimate};
+use crestline::feature_distance::{FeatureDistanceOptions, feature_distance};
+use crestline::io::lines::read_lines_obj;
 use crestline::lines::FeatureLines;
 use crestline::render::{ColorMapChoice, RenderOptions, UpAxis};
+use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
 use crate::input::{FormatArg, load_mesh};
 
@@ -26,9 +30,9 @@ pub enum FieldArg {
     /// Extremality of k_min.
     #[value(name = "e_min", alias = "e-min")]
     EMin,
-    /// Mesh saliency.
+    /// Mesh saliency (Mao et al.).
     Saliency,
-    /// Distance to the nearest feature line.
+    /// Distance along the surface to the nearest feature line (needs --lines).
     #[value(name = "feature_distance", alias = "feature-distance")]
     FeatureDistance,
 }
@@ -116,9 +120,8 @@ impl SceneArgs {
     pub fn load(&self) -> Result<Scene> {
         let (mesh, _) = load_mesh(self.mesh.as_ref(), self.format)?;
         let lines = match &self.lines {
-            Some(path) => {
-                Some(read_lines(path).with_context(|| format!("cannot load {}", path.display()))?)
-            }
+            // Reading errors already name the file and the line in it.
+            Some(path) => Some(read_lines_obj(path).context("cannot load the lines")?),
             None => None,
         };
         let field = match self.field {
@@ -155,34 +158,27 @@ impl SceneArgs {
     }
 }
 
-/// Reads a lines-OBJ file.
-fn read_lines(path: &std::path::Path) -> Result<FeatureLines> {
-    Ok(crestline::io::lines::read_lines_obj(path)?)
-}
-
-/// Computes the per-vertex field `field` on `mesh` (curvature by the default estimator).
+/// Computes the per-vertex field `field` on `mesh` with the library's default options.
 fn compute_field(
     mesh: &TriMesh,
     lines: Option<&FeatureLines>,
     field: FieldArg,
 ) -> Result<Vec<f64>> {
-    use crestline::curvature::{CurvatureOptions, estimate};
-    let _ = lines;
-    if field == FieldArg::FeatureDistance {
-        bail!(
-            "--field feature_distance is not available yet (the feature-distance step has not landed)"
-        );
-    }
-    let c = estimate(mesh, &CurvatureOptions::default())?;
+    let curvature = || estimate(mesh, &CurvatureOptions::default());
     Ok(match field {
-        FieldArg::KMax => c.k_max,
-        FieldArg::KMin => c.k_min,
-        FieldArg::EMax => c.e_max,
-        FieldArg::EMin => c.e_min,
+        FieldArg::KMax => curvature()?.k_max,
+        FieldArg::KMin => curvature()?.k_min,
+        FieldArg::EMax => curvature()?.e_max,
+        FieldArg::EMin => curvature()?.e_min,
         FieldArg::Saliency => {
-            crestline::saliency::mesh_saliency(mesh, &c, &Default::default())?.saliency
+            mesh_saliency(mesh, &curvature()?, &SaliencyOptions::default())?.saliency
         }
-        FieldArg::FeatureDistance => Vec::new(),
+        FieldArg::FeatureDistance => {
+            let Some(lines) = lines else {
+                bail!("--field feature_distance needs the lines: give them with --lines");
+            };
+            feature_distance(mesh, lines, &FeatureDistanceOptions::default())
+        }
     })
 }
 

@@ -23,6 +23,7 @@ pub mod curvature;
 pub mod error;
 pub mod extract;
 pub mod extremality;
+pub mod feature_distance;
 pub mod io;
 pub mod lines;
 pub mod mesh;

@@ -102,6 +102,15 @@ pub struct Args {
     /// Print statistics: triangles, singular triangles, lines, length, time per stage.
     #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "text")]
     pub stats: Option<StatsFormat>,
+    /// Also write a picture of the mesh and lines (PNG).
+    #[arg(long, value_name = "PICTURE.png")]
+    pub png: Option<PathBuf>,
+    /// Also write a picture with the lines as vector paths (SVG).
+    #[arg(long, value_name = "PICTURE.svg")]
+    pub svg: Option<PathBuf>,
+    /// Also write a self-contained interactive viewer (HTML, WebGL).
+    #[arg(long, value_name = "VIEW.html")]
+    pub html: Option<PathBuf>,
     /// Do not show progress.
     #[arg(short, long)]
     pub quiet: bool,
@@ -132,6 +141,20 @@ pub fn run(args: Args) -> Result<()> {
         PlyEncoding::BinaryLittleEndian,
     )?;
 
+    let picture_options = crestline::render::RenderOptions::default();
+    for (path, write) in [
+        (&args.png, crestline::render::write_png as PictureWriter),
+        (&args.svg, crestline::render::write_svg),
+        (&args.html, crestline::render::write_html),
+    ] {
+        if let Some(path) = path {
+            write(path, &mesh, Some(&extraction.lines), None, &picture_options)?;
+            if !args.quiet {
+                eprintln!("wrote {}", path.display());
+            }
+        }
+    }
+
     let s = &extraction.stats;
     if !args.quiet {
         eprintln!(
@@ -156,6 +179,14 @@ pub fn run(args: Args) -> Result<()> {
     }
     Ok(())
 }
+
+type PictureWriter = fn(
+    &Path,
+    &TriMesh,
+    Option<&crestline::lines::FeatureLines>,
+    Option<&[f64]>,
+    &crestline::render::RenderOptions,
+) -> crestline::Result<()>;
 
 /// Turns the arguments into the library's options.
 pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> {
