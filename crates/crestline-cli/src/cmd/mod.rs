@@ -1,5 +1,6 @@
 //! One module per subcommand.
 
+pub mod curvature;
 pub mod extract;
 pub mod info;
 pub mod render;
