@@ -36,9 +36,9 @@ use crate::lines::link::{LinkOptions, link_feature_points};
 use crate::lines::{FeatureLines, LineKind, TraceReport, trace_crest_lines, trace_lines};
 use crate::mesh::TriMesh;
 use crate::saliency::{SaliencyOptions, mesh_saliency};
-use crate::threshold::{KneeSearch, seek_threshold};
 use crate::smoothing::extremality::{ExtremalitySmoothing, smooth_extremalities};
 use crate::smoothing::surface::{SurfaceSmoothing, smooth_surface};
+use crate::threshold::{KneeSearch, seek_threshold};
 
 /// Which paper's pipeline runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -301,7 +301,13 @@ pub fn extract_with_progress(
             stats.threshold = threshold;
             // The threshold applies to points here; lines are only filtered by length.
             filter.threshold = f64::NEG_INFINITY;
-            link_feature_points(surface, &curvature, &saliency.saliency, threshold, &options.link)
+            link_feature_points(
+                surface,
+                &curvature,
+                &saliency.saliency,
+                threshold,
+                &options.link,
+            )
         }
     };
     stats.lines_traced = traced.lines.len();

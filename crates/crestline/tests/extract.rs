@@ -10,6 +10,8 @@
 //! k_max *minimum* (at the poles). Valleys need k_min < 0: none on a convex surface. So the
 //! only crest line is the equator ellipse x²/a² + y²/b² = 1, z = 0.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use crestline::extract::{ExtractOptions, Method, extract};
 use crestline::lines::{FeatureLines, LineKind};
 use crestline::{TriMesh, Vec3, shapes};
@@ -30,7 +32,11 @@ fn equator(samples: usize) -> Vec<Vec3> {
 
 fn point_segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
     let ab = b - a;
-    let t = if ab.norm_squared() > 0.0 { ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if ab.norm_squared() > 0.0 {
+        ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     (a + ab * t - p).norm()
 }
 
@@ -40,7 +46,11 @@ fn distance_to_lines(p: Vec3, lines: &FeatureLines) -> f64 {
         let n = l.points.len();
         let segs = if l.closed { n } else { n.saturating_sub(1) };
         for i in 0..segs {
-            best = best.min(point_segment_distance(p, l.points[i], l.points[(i + 1) % n]));
+            best = best.min(point_segment_distance(
+                p,
+                l.points[i],
+                l.points[(i + 1) % n],
+            ));
         }
         if n == 1 {
             best = best.min((l.points[0] - p).norm());
@@ -54,20 +64,36 @@ fn check_ellipsoid(mesh: &TriMesh, method: Method) {
     let tol = 0.01 * diagonal;
     let result = extract(mesh, &ExtractOptions::for_method(method)).unwrap();
     let lines = &result.lines;
-    assert!(lines.of_kind(LineKind::Valley).count() == 0, "{method:?}: valleys on a convex surface");
+    assert!(
+        lines.of_kind(LineKind::Valley).count() == 0,
+        "{method:?}: valleys on a convex surface"
+    );
     // Every ridge point lies within 1% of the diagonal of the exact crest line.
     let exact = equator(20_000);
     for l in &lines.lines {
         for p in &l.points {
-            let d = exact.iter().map(|q| (q - p).norm()).fold(f64::INFINITY, f64::min);
-            assert!(d <= tol, "{method:?}: ridge point {p:?} is {d:.4} from the equator (tol {tol:.4})");
+            let d = exact
+                .iter()
+                .map(|q| (q - p).norm())
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d <= tol,
+                "{method:?}: ridge point {p:?} is {d:.4} from the equator (tol {tol:.4})"
+            );
         }
     }
     // The ridges cover at least 95% of the crest line.
     let samples = equator(2000);
-    let covered = samples.iter().filter(|q| distance_to_lines(**q, lines) <= tol).count();
+    let covered = samples
+        .iter()
+        .filter(|q| distance_to_lines(**q, lines) <= tol)
+        .count();
     let fraction = covered as f64 / samples.len() as f64;
-    assert!(fraction >= 0.95, "{method:?}: ridges cover {:.1}% of the equator", 100.0 * fraction);
+    assert!(
+        fraction >= 0.95,
+        "{method:?}: ridges cover {:.1}% of the equator",
+        100.0 * fraction
+    );
 }
 
 #[test]
@@ -107,7 +133,11 @@ fn output_is_deterministic_and_polylines_are_simple() {
     assert_eq!(a.lines, b.lines);
     assert!(!a.lines.lines.is_empty());
     for l in &a.lines.lines {
-        let mut pts: Vec<[u64; 3]> = l.points.iter().map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]).collect();
+        let mut pts: Vec<[u64; 3]> = l
+            .points
+            .iter()
+            .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+            .collect();
         pts.sort_unstable();
         let before = pts.len();
         pts.dedup();

@@ -113,14 +113,24 @@ pub fn run(args: Args) -> Result<()> {
     let options = options_from_args(&args, &mesh)?;
     let extraction = run_with_progress(&mesh, &options, args.quiet)?;
 
-    let output = args.output.clone().unwrap_or_else(|| default_output(args.mesh.as_deref()));
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(args.mesh.as_deref()));
     let format = args.format.map(|f| match f {
         LinesFormatArg::Obj => LinesFormat::Obj,
         LinesFormatArg::Ply => LinesFormat::Ply,
         LinesFormatArg::Json => LinesFormat::Json,
     });
-    let format = format.or_else(|| LinesFormat::from_path(&output)).unwrap_or(LinesFormat::Obj);
-    write_lines(&output, &extraction.lines, Some(format), PlyEncoding::BinaryLittleEndian)?;
+    let format = format
+        .or_else(|| LinesFormat::from_path(&output))
+        .unwrap_or(LinesFormat::Obj);
+    write_lines(
+        &output,
+        &extraction.lines,
+        Some(format),
+        PlyEncoding::BinaryLittleEndian,
+    )?;
 
     let s = &extraction.stats;
     if !args.quiet {
@@ -138,7 +148,10 @@ pub fn run(args: Args) -> Result<()> {
     }
     match args.stats {
         Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, &mesh)),
-        Some(StatsFormat::Json) => println!("{}", serde_json::to_string_pretty(&stats_json(&extraction, &mesh))?),
+        Some(StatsFormat::Json) => println!(
+            "{}",
+            serde_json::to_string_pretty(&stats_json(&extraction, &mesh))?
+        ),
         None => {}
     }
     Ok(())
@@ -237,22 +250,35 @@ fn numbers(text: &str, count: usize, flag: &str) -> Result<Vec<f64>> {
 }
 
 fn read_factors(path: &Path, n: usize) -> Result<Vec<f64>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     let mut values = Vec::with_capacity(n);
     for (i, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("");
         for token in line.split_whitespace() {
             let x: f64 = token.parse().map_err(|_| {
-                anyhow::anyhow!("{}: line {}: `{token}` is not a number", path.display(), i + 1)
+                anyhow::anyhow!(
+                    "{}: line {}: `{token}` is not a number",
+                    path.display(),
+                    i + 1
+                )
             })?;
             if !(x.is_finite() && x >= 0.0) {
-                bail!("{}: line {}: factor must be finite and >= 0, got {x}", path.display(), i + 1);
+                bail!(
+                    "{}: line {}: factor must be finite and >= 0, got {x}",
+                    path.display(),
+                    i + 1
+                );
             }
             values.push(x);
         }
     }
     if values.len() != n {
-        bail!("{}: {} factors for a mesh of {n} vertices", path.display(), values.len());
+        bail!(
+            "{}: {} factors for a mesh of {n} vertices",
+            path.display(),
+            values.len()
+        );
     }
     Ok(values)
 }
@@ -266,9 +292,14 @@ fn default_output(mesh: Option<&Path>) -> PathBuf {
 }
 
 /// Runs the extraction with a spinner per stage on stderr (unless quiet).
-pub fn run_with_progress(mesh: &TriMesh, options: &ExtractOptions, quiet: bool) -> Result<Extraction> {
+pub fn run_with_progress(
+    mesh: &TriMesh,
+    options: &ExtractOptions,
+    quiet: bool,
+) -> Result<Extraction> {
     let mut spinner: Option<ProgressBar> = None;
-    let style = ProgressStyle::with_template("{spinner} {msg} {elapsed}").unwrap_or_else(|_| ProgressStyle::default_spinner());
+    let style = ProgressStyle::with_template("{spinner} {msg} {elapsed}")
+        .unwrap_or_else(|_| ProgressStyle::default_spinner());
     let mut progress = |stage: Stage, done: Option<Duration>| {
         if quiet {
             return;
@@ -306,7 +337,10 @@ fn stats_text(x: &Extraction, mesh: &TriMesh) -> String {
         pct(s.trace.singular_min)
     );
     out += &format!("lines traced           {}\n", s.lines_traced);
-    out += &format!("lines kept             {} ({} ridges, {} valleys)\n", s.lines, s.ridges, s.valleys);
+    out += &format!(
+        "lines kept             {} ({} ridges, {} valleys)\n",
+        s.lines, s.ridges, s.valleys
+    );
     out += &format!(
         "total length           {:.6} ({:.2} diagonals)\n",
         s.total_length,
