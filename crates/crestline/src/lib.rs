@@ -20,11 +20,13 @@
 //! Valleys: `e_min = 0`, `de_min/dt_min > 0`, `k_min < -|k_max|`.
 
 pub mod curvature;
+pub mod distance;
 pub mod error;
 pub mod io;
 pub mod lines;
 pub mod mesh;
 pub mod shapes;
+pub mod simplify;
 
 pub use error::{Error, Location, Result};
 pub use mesh::{MeshInfo, TriMesh, Vec3};
