@@ -25,8 +25,12 @@ pub mod error;
 pub mod io;
 pub mod lines;
 pub mod mesh;
+pub mod saliency;
 pub mod shapes;
 pub mod simplify;
+pub mod smoothing;
+pub mod spatial;
+pub mod threshold;
 
 pub use error::{Error, Location, Result};
 pub use mesh::{MeshInfo, TriMesh, Vec3};

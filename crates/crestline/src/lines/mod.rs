@@ -1,6 +1,26 @@
 //! Feature lines: ridges and valleys traced on a mesh, as plain polylines.
+//!
+//! The stages of HPW 2005 (Table 1, steps 4–7), one file each:
+//! [`trace`] (regular triangles, sec. 4.1), [`singular`] (sec. 4.2), [`assemble`] (maximal
+//! polylines and their strengths), [`filter`] (thresholds), [`fair`] (spatial fairing,
+//! sec. 5.2). [`trace_lines`] runs steps 4–6 for both families.
+//!
+//! YBS 2005 trace edge by edge instead ([`trace_edges`], after Ohtake et al. 2004) and join
+//! broken pieces by gap jumping ([`gap`]); [`trace_crest_lines`] runs that for both families.
 
-use crate::mesh::Vec3;
+pub mod assemble;
+pub mod fair;
+pub mod filter;
+pub mod gap;
+pub mod link;
+pub mod singular;
+pub mod trace;
+pub mod trace_edges;
+
+use crate::curvature::Curvature;
+use crate::mesh::{TriMesh, Vec3};
+
+pub use singular::SingularCases;
 
 /// Ridge (convex crest) or valley (concave crest).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -55,4 +75,72 @@ pub struct FeatureLine {
 pub struct FeatureLines {
     /// The polylines, ridges and valleys mixed.
     pub lines: Vec<FeatureLine>,
+}
+
+impl FeatureLines {
+    /// Lines of one kind.
+    pub fn of_kind(&self, kind: LineKind) -> impl Iterator<Item = &FeatureLine> {
+        self.lines.iter().filter(move |l| l.kind == kind)
+    }
+
+    /// Total length of all lines.
+    pub fn total_length(&self) -> f64 {
+        self.lines.iter().map(|l| l.length).sum()
+    }
+}
+
+/// What tracing found, per family.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TraceReport {
+    /// Singular triangles of the max family (ridges).
+    pub singular_max: usize,
+    /// Singular triangles of the min family (valleys).
+    pub singular_min: usize,
+    /// Segments traced in regular triangles (both families).
+    pub regular_segments: usize,
+    /// Singular-triangle cases of the max family.
+    pub cases_max: SingularCases,
+    /// Singular-triangle cases of the min family.
+    pub cases_min: SingularCases,
+}
+
+/// Steps 4–6 of HPW without filtering: traces both families in regular triangles, continues
+/// the lines through singular triangles and joins the segments into polylines.
+pub fn trace_lines(mesh: &TriMesh, curvature: &Curvature) -> (FeatureLines, TraceReport) {
+    let mut report = TraceReport::default();
+    let mut lines = Vec::new();
+    for kind in [LineKind::Ridge, LineKind::Valley] {
+        let family = trace::Family::of(curvature, kind);
+        let mut segments = trace::trace_regular_triangles(mesh, &family);
+        report.regular_segments += segments.segments.len();
+        let singular = segments.singular_count();
+        let cases = singular::process_singular_triangles(mesh, &mut segments);
+        match kind {
+            LineKind::Ridge => (report.singular_max, report.cases_max) = (singular, cases),
+            LineKind::Valley => (report.singular_min, report.cases_min) = (singular, cases),
+        }
+        lines.extend(assemble::assemble_lines(mesh, &family, &segments));
+    }
+    (FeatureLines { lines }, report)
+}
+
+/// YBS tracing for both families: crest points edge by edge, joined inside triangles, then
+/// gap jumping. Returns the lines and the number of gaps jumped.
+pub fn trace_crest_lines(
+    mesh: &TriMesh,
+    curvature: &Curvature,
+    gaps: Option<&gap::GapJumping>,
+) -> (FeatureLines, usize) {
+    let mut lines = Vec::new();
+    let mut joins = 0;
+    for kind in [LineKind::Ridge, LineKind::Valley] {
+        let family = trace::Family::of(curvature, kind);
+        let segments = trace_edges::trace_crest_edges(mesh, &family);
+        let mut family_lines = assemble::assemble_lines(mesh, &family, &segments);
+        if let Some(options) = gaps {
+            joins += gap::jump_gaps(mesh, &family, &mut family_lines, options);
+        }
+        lines.extend(family_lines);
+    }
+    (FeatureLines { lines }, joins)
 }

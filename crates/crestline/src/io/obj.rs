@@ -1,0 +1,309 @@
+//! Wavefront OBJ meshes.
+//!
+//! Reference: the "Object Files (.obj)" appendix of the Wavefront Advanced Visualizer manual
+//! (B1), as collected at <https://paulbourke.net/dataformats/obj/>.
+//!
+//! Reading keeps `v` (the first three numbers; a fourth `w` or the three colour components
+//! some exporters append are ignored) and `f` (polygons, fan-triangulated). A face corner may
+//! be `v`, `v/vt`, `v//vn` or `v/vt/vn`; only `v` is used. Indices are 1-based, or negative
+//! for "relative to the last vertex read"; a positive index may refer to a vertex defined
+//! later in the file. Every other record (`vt`, `vn`, `l`, `o`, `g`, `s`, `usemtl`,
+//! `mtllib`, ...) and `#` comments are ignored.
+//!
+//! Limits: line continuation with a trailing `\` is not supported (the `\` is reported as a
+//! non-numeric token); free-form geometry (`curv`, `surf`) is ignored.
+//!
+//! Writing emits `v x y z` with shortest round-trip numbers and `f a b c` per triangle.
+
+use std::io::Write;
+
+use super::text::{Lines, Source, Tokens, is_blank, parse_i64, show, vertex};
+use super::{MeshData, push_fan, write_f64};
+use crate::error::Result;
+use crate::mesh::TriMesh;
+
+/// Parses an OBJ file held in memory.
+pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
+    if is_blank(bytes) {
+        return Err(source.whole("empty file"));
+    }
+    // A rough guess (a vertex line is ~30 bytes, there are ~2 faces per vertex) saves the
+    // vectors a few reallocations on large files.
+    let mut positions = Vec::with_capacity(bytes.len() / 100);
+    let mut faces = Vec::with_capacity(bytes.len() / 50);
+    let mut corners: Vec<u32> = Vec::with_capacity(8);
+    // Faces whose largest index pointed past the vertices read so far, checked at the end
+    // once all vertices are known: (line, largest 0-based index).
+    let mut forward_references: Vec<(usize, u64)> = Vec::new();
+
+    for (line, text) in Lines::new(bytes) {
+        let mut tokens = Tokens::new(text);
+        let Some(keyword) = tokens.next() else {
+            continue;
+        };
+        match keyword {
+            b"v" => {
+                let p = vertex(&mut tokens, positions.len() + 1)
+                    .map_err(|m| source.at_line(line, m))?;
+                positions.push(p);
+            }
+            b"f" => {
+                corners.clear();
+                let mut largest = 0u64;
+                for token in tokens {
+                    let index = vertex_index(token, positions.len())
+                        .map_err(|m| source.at_line(line, m))?;
+                    largest = largest.max(u64::from(index));
+                    corners.push(index);
+                }
+                if corners.len() < 3 {
+                    return Err(source.at_line(
+                        line,
+                        format!(
+                            "face with {} vertices (at least 3 needed)",
+                            corners.len()
+                        ),
+                    ));
+                }
+                if largest >= positions.len() as u64 {
+                    forward_references.push((line, largest));
+                }
+                push_fan(&mut faces, &corners);
+            }
+            _ => {}
+        }
+    }
+
+    let count = positions.len() as u64;
+    if let Some(&(line, index)) = forward_references.iter().find(|&&(_, i)| i >= count) {
+        return Err(source.at_line(
+            line,
+            format!(
+                "vertex index {} out of range (the file has {count} vertices)",
+                index + 1
+            ),
+        ));
+    }
+    if positions.len() > u32::MAX as usize {
+        return Err(source.whole(format!(
+            "{} vertices is more than the 2^32-1 crestline indexes",
+            positions.len()
+        )));
+    }
+    Ok(MeshData { positions, faces })
+}
+
+/// The 0-based vertex index of a face corner `v`, `v/vt`, `v//vn` or `v/vt/vn`, given the
+/// number of vertices read so far (for negative, relative indices).
+#[inline]
+fn vertex_index(token: &[u8], vertices_so_far: usize) -> Result<u32, String> {
+    // Corners are short: a plain scan beats a vectorised search here.
+    let digits = match token.iter().position(|&b| b == b'/') {
+        Some(slash) => &token[..slash],
+        None => token,
+    };
+    let Some(i) = parse_i64(digits) else {
+        return Err(format!(
+            "non-numeric token '{}' where a vertex index was expected",
+            show(token)
+        ));
+    };
+    let index = match i {
+        0 => return Err("vertex index 0 (OBJ indices start at 1)".to_string()),
+        i if i > 0 => i - 1,
+        i => {
+            let absolute = vertices_so_far as i64 + i;
+            if absolute < 0 {
+                return Err(format!(
+                    "relative vertex index {i} reaches before the first vertex \
+                     (only {vertices_so_far} read so far)"
+                ));
+            }
+            absolute
+        }
+    };
+    u32::try_from(index).map_err(|_| format!("vertex index {i} out of range"))
+}
+
+/// Writes `mesh` as OBJ: every vertex, then the kept triangles.
+pub(super) fn write<W: Write>(mut out: W, mesh: &TriMesh) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "# crestline mesh: {} vertices, {} triangles",
+        mesh.num_vertices(),
+        mesh.num_faces()
+    )?;
+    for p in mesh.positions() {
+        out.write_all(b"v ")?;
+        write_f64(&mut out, p.x)?;
+        out.write_all(b" ")?;
+        write_f64(&mut out, p.y)?;
+        out.write_all(b" ")?;
+        write_f64(&mut out, p.z)?;
+        out.write_all(b"\n")?;
+    }
+    for [a, b, c] in mesh.faces() {
+        writeln!(out, "f {} {} {}", a + 1, b + 1, c + 1)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::{Format, read_mesh_bytes};
+    use std::path::Path;
+
+    fn parse_str(text: &str) -> Result<MeshData> {
+        parse(text.as_bytes(), Source::new(Path::new("t.obj")))
+    }
+
+    fn error(text: &str) -> String {
+        parse_str(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn reads_polygons_with_every_corner_form() {
+        let m = parse_str(
+            "# a square and a triangle\n\
+             mtllib m.mtl\no thing\ng group\ns 1\nusemtl red\n\
+             v 0 0 0\nv 1 0 0 0.5 0.5 0.5\nv 1 1 0\r\nv 0 1 0\n\
+             vt 0 0\nvn 0 0 1\n\
+             f 1/1/1 2/1/1 3/1/1 4/1/1\n\
+             f 1//1 2//1 3//1\n\
+             f 1/1 3/1 4/1\n\
+             l 1 2\n",
+        )
+        .unwrap();
+        assert_eq!(m.positions.len(), 4);
+        assert_eq!(m.positions[1], [1.0, 0.0, 0.0]);
+        assert_eq!(
+            m.faces,
+            vec![[0, 1, 2], [0, 2, 3], [0, 1, 2], [0, 2, 3]]
+        );
+    }
+
+    #[test]
+    fn negative_indices_are_relative_to_the_last_vertex() {
+        let m = parse_str("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 5 5\nf -4 -3 -1\n")
+            .unwrap();
+        assert_eq!(m.faces, vec![[0, 1, 2], [0, 1, 3]]);
+    }
+
+    #[test]
+    fn forward_references_are_allowed() {
+        let m = parse_str("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
+        assert_eq!(m.faces, vec![[0, 1, 2]]);
+    }
+
+    #[test]
+    fn trailing_comments_are_ignored() {
+        let m = parse_str("v 0 0 0 # origin\nv 1 0 0\nv 0 1 0\nf 1 2 3 # one\n").unwrap();
+        assert_eq!(m.faces.len(), 1);
+    }
+
+    #[test]
+    fn repeated_index_faces_are_counted_by_the_mesh() {
+        let bytes = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 1 2\n";
+        let m = read_mesh_bytes(bytes, Format::Obj, Path::new("t.obj")).unwrap();
+        assert_eq!(m.num_faces(), 1);
+        assert_eq!(m.degenerate_faces(), 1);
+    }
+
+    #[test]
+    fn blank_file_is_empty() {
+        assert_eq!(error("\n  \n"), "t.obj: file: empty file");
+    }
+
+    #[test]
+    fn non_numeric_coordinate_names_line_and_token() {
+        assert_eq!(
+            error("v 0 0 0\nv 1 zero 0\n"),
+            "t.obj: line 2: non-numeric token 'zero' where the y coordinate of vertex 2 \
+             was expected"
+        );
+    }
+
+    #[test]
+    fn non_numeric_index_names_line_and_token() {
+        assert_eq!(
+            error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x/1\n"),
+            "t.obj: line 4: non-numeric token 'x/1' where a vertex index was expected"
+        );
+    }
+
+    #[test]
+    fn missing_coordinate() {
+        assert_eq!(
+            error("v 0 0\n"),
+            "t.obj: line 1: missing z coordinate of vertex 1"
+        );
+    }
+
+    #[test]
+    fn nan_and_infinite_coordinates_are_rejected() {
+        assert_eq!(
+            error("v 0 0 0\n\nv nan 0 0\n"),
+            "t.obj: line 3: x coordinate of vertex 2 is NaN or infinite ('nan')"
+        );
+        assert_eq!(
+            error("v 0 0 -inf\n"),
+            "t.obj: line 1: z coordinate of vertex 1 is NaN or infinite ('-inf')"
+        );
+        assert_eq!(
+            error("v 0 1e400 0\n"),
+            "t.obj: line 1: y coordinate of vertex 1 is NaN or infinite ('1e400')"
+        );
+    }
+
+    #[test]
+    fn index_out_of_range() {
+        assert_eq!(
+            error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"),
+            "t.obj: line 4: vertex index 4 out of range (the file has 3 vertices)"
+        );
+        assert_eq!(
+            error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"),
+            "t.obj: line 4: vertex index 0 (OBJ indices start at 1)"
+        );
+    }
+
+    #[test]
+    fn negative_index_before_the_first_vertex() {
+        assert_eq!(
+            error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n"),
+            "t.obj: line 4: relative vertex index -4 reaches before the first vertex \
+             (only 3 read so far)"
+        );
+    }
+
+    #[test]
+    fn face_with_fewer_than_three_vertices() {
+        assert_eq!(
+            error("v 0 0 0\nv 1 0 0\nf 1 2\n"),
+            "t.obj: line 3: face with 2 vertices (at least 3 needed)"
+        );
+        assert_eq!(
+            error("v 0 0 0\nf\n"),
+            "t.obj: line 2: face with 0 vertices (at least 3 needed)"
+        );
+    }
+
+    #[test]
+    fn writes_what_it_reads() {
+        let m = read_mesh_bytes(
+            b"v 0.1 0 0\nv 1 0 1e-300\nv 0 1 0\nv 9 9 9\nf 1 2 3\n",
+            Format::Obj,
+            Path::new("t.obj"),
+        )
+        .unwrap();
+        let mut out = Vec::new();
+        write(&mut out, &m).unwrap();
+        let text = String::from_utf8(out.clone()).unwrap();
+        assert!(text.contains("v 0.1 0 0\nv 1 0 1e-300\n"), "{text}");
+        assert!(text.ends_with("f 1 2 3\n"), "{text}");
+        let back = parse(&out, Source::new(Path::new("t.obj"))).unwrap();
+        assert_eq!(back.positions.len(), 4);
+        assert_eq!(back.faces, vec![[0, 1, 2]]);
+    }
+}

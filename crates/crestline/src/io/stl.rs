@@ -1,0 +1,413 @@
+//! STL (stereolithography) meshes, ascii and binary.
+//!
+//! Reference: 3D Systems, "StereoLithography Interface Specification" (1989); summarised at
+//! <https://en.wikipedia.org/wiki/STL_(file_format)>.
+//!
+//! STL stores each triangle with its own three corners, so the reader welds corners whose
+//! positions are bitwise equal into one vertex (no tolerance: a tolerance would merge
+//! features that are merely close). Stored facet normals are ignored.
+//!
+//! Telling the two encodings apart: a binary file is an 80-byte header, a little-endian u32
+//! triangle count n and n 50-byte records, so its size is exactly 84 + 50·n. Many binary
+//! exporters start the header with `solid`, so that word alone proves nothing: a file whose
+//! size matches is binary; otherwise a file that starts with `solid` is ascii; otherwise it
+//! is binary (trailing bytes after the last record are tolerated, a short file is
+//! truncated).
+//!
+//! Ascii: `solid name`, then `facet normal nx ny nz`, `outer loop`, three `vertex x y z`,
+//! `endloop`, `endfacet`, ..., `endsolid name`; keywords are matched case-insensitively and
+//! several solids may follow each other. A loop with more than three vertices is
+//! fan-triangulated.
+//!
+//! Writing emits binary STL; positions are rounded to `f32`, so it is the one lossy format.
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+use std::io::Write;
+
+use super::text::{Lines, Source, Tokens, coordinate, show};
+use super::{MeshData, push_fan};
+use crate::error::{Error, Result};
+use crate::mesh::TriMesh;
+
+const HEADER_BYTES: usize = 80;
+const PREAMBLE_BYTES: usize = HEADER_BYTES + 4;
+const RECORD_BYTES: usize = 50;
+
+/// Parses an STL file held in memory, ascii or binary (see the module docs for how they are
+/// told apart).
+pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
+    let declared = bytes
+        .get(HEADER_BYTES..)
+        .and_then(|rest| rest.first_chunk::<4>())
+        .map(|count| u32::from_le_bytes(*count) as usize);
+    let expected_size = declared.map(|n| PREAMBLE_BYTES as u64 + RECORD_BYTES as u64 * n as u64);
+    let starts_with_solid = bytes.trim_ascii_start().starts_with(b"solid");
+    // Ascii STL is plain text; binary records nearly always hold zero bytes (attribute
+    // counts, small coordinates). Used only to word an error message.
+    let looks_binary = bytes.contains(&0);
+    let size = bytes.len() as u64;
+    match (declared, expected_size) {
+        (Some(n), Some(expected)) if expected == size => parse_binary(bytes, n, source),
+        (Some(n), Some(expected)) if !starts_with_solid => {
+            if expected < size {
+                parse_binary(bytes, n, source)
+            } else {
+                let complete = (bytes.len() - PREAMBLE_BYTES) / RECORD_BYTES;
+                Err(source.at_byte(
+                    PREAMBLE_BYTES + complete * RECORD_BYTES,
+                    format!(
+                        "truncated data: the binary STL header declares {n} triangles \
+                         ({expected} bytes) but the file has {size} bytes; triangle \
+                         {complete} is incomplete"
+                    ),
+                ))
+            }
+        }
+        _ if starts_with_solid => parse_ascii(bytes, source).map_err(|e| match (e, expected_size) {
+            // A binary file whose header starts with "solid" but whose size is wrong lands
+            // here; say so, or the user only sees a baffling ascii error.
+            (
+                Error::Parse {
+                    path,
+                    location,
+                    message,
+                },
+                Some(expected),
+            ) if looks_binary => Error::Parse {
+                path,
+                location,
+                message: format!(
+                    "{message} (if this is a binary STL, it is truncated or padded: its \
+                     header declares {} triangles, {expected} bytes, and the file has {size})",
+                    declared.unwrap_or(0)
+                ),
+            },
+            (e, _) => e,
+        }),
+        _ => Err(source.at_byte(
+            bytes.len(),
+            format!(
+                "truncated data: {size} bytes is neither an ascii STL (it does not start with \
+                 'solid') nor a binary one (shorter than the {PREAMBLE_BYTES}-byte header)"
+            ),
+        )),
+    }
+}
+
+fn parse_binary(bytes: &[u8], triangles: usize, source: Source<'_>) -> Result<MeshData> {
+    let body = &bytes[PREAMBLE_BYTES..];
+    let mut welder = Welder::with_capacity(triangles / 2);
+    let mut faces = Vec::with_capacity(triangles);
+    for (t, record) in body.chunks_exact(RECORD_BYTES).take(triangles).enumerate() {
+        let mut corners = [0u32; 3];
+        for (k, corner) in corners.iter_mut().enumerate() {
+            // Skip the 12-byte normal; each corner is three little-endian f32.
+            let at = 12 + 12 * k;
+            let mut p = [0.0f64; 3];
+            for (axis, c) in p.iter_mut().enumerate() {
+                let offset = at + 4 * axis;
+                let raw = record
+                    .get(offset..)
+                    .and_then(|r| r.first_chunk::<4>())
+                    .copied()
+                    .unwrap_or_default();
+                *c = f64::from(f32::from_le_bytes(raw));
+                if !c.is_finite() {
+                    return Err(source.at_byte(
+                        PREAMBLE_BYTES + t * RECORD_BYTES + offset,
+                        format!(
+                            "triangle {t}, corner {k}: {} coordinate is NaN or infinite ({c})",
+                            ["x", "y", "z"][axis]
+                        ),
+                    ));
+                }
+            }
+            *corner = welder.index(p);
+        }
+        faces.push(corners);
+    }
+    Ok(MeshData {
+        positions: welder.positions,
+        faces,
+    })
+}
+
+fn parse_ascii(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
+    let mut welder = Welder::with_capacity(bytes.len() / 500);
+    let mut faces = Vec::with_capacity(bytes.len() / 250);
+    let mut corners: Vec<u32> = Vec::with_capacity(3);
+    let mut in_loop = false;
+    for (line, text) in Lines::new(bytes) {
+        let mut tokens = Tokens::new(text);
+        let Some(keyword) = tokens.next() else {
+            continue;
+        };
+        let is = |k: &str| keyword.eq_ignore_ascii_case(k.as_bytes());
+        if is("vertex") {
+            if !in_loop {
+                return Err(source.at_line(line, "vertex outside an 'outer loop'"));
+            }
+            let mut p = [0.0f64; 3];
+            for (axis, c) in p.iter_mut().enumerate() {
+                let name = ["x", "y", "z"][axis];
+                *c = coordinate(tokens.next(), || format!("{name} coordinate"))
+                    .map_err(|m| source.at_line(line, m))?;
+            }
+            corners.push(welder.index(p));
+        } else if is("outer") {
+            in_loop = true;
+            corners.clear();
+        } else if is("endloop") {
+            if corners.len() < 3 {
+                return Err(source.at_line(
+                    line,
+                    format!(
+                        "facet with {} vertices (at least 3 needed)",
+                        corners.len()
+                    ),
+                ));
+            }
+            push_fan(&mut faces, &corners);
+            in_loop = false;
+        } else if !(is("solid") || is("endsolid") || is("facet") || is("endfacet")) {
+            return Err(source.at_line(
+                line,
+                format!(
+                    "unexpected '{}' in ascii STL (expected solid, facet, outer loop, vertex, \
+                     endloop, endfacet or endsolid)",
+                    show(keyword)
+                ),
+            ));
+        }
+    }
+    if in_loop {
+        return Err(source.at_line(
+            Lines::new(bytes).count(),
+            "truncated data: the file ends inside a facet",
+        ));
+    }
+    Ok(MeshData {
+        positions: welder.positions,
+        faces,
+    })
+}
+
+/// Gives one index to each distinct position (bitwise), in order of first appearance.
+struct Welder {
+    index_of: HashMap<(u64, u64, u64), u32, BuildHasherDefault<WeldHasher>>,
+    positions: Vec<[f64; 3]>,
+}
+
+impl Welder {
+    fn with_capacity(n: usize) -> Self {
+        Welder {
+            index_of: HashMap::with_capacity_and_hasher(n, Default::default()),
+            positions: Vec::with_capacity(n),
+        }
+    }
+
+    #[inline]
+    fn index(&mut self, p: [f64; 3]) -> u32 {
+        let key = (p[0].to_bits(), p[1].to_bits(), p[2].to_bits());
+        let next = self.positions.len() as u32;
+        let index = *self.index_of.entry(key).or_insert(next);
+        if index == next {
+            self.positions.push(p);
+        }
+        index
+    }
+}
+
+/// A fast multiplicative hasher for the welding keys: std's default SipHash guards against
+/// adversarial keys, which costs more than the whole parse here and buys nothing (a hostile
+/// file can only slow its own loading down).
+#[derive(Default)]
+struct WeldHasher(u64);
+
+impl Hasher for WeldHasher {
+    #[inline]
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    #[inline]
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(23) ^ x).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
+
+    #[inline]
+    fn finish(&self) -> u64 {
+        // Fold the well-mixed high bits down: hashbrown takes its bucket from the low bits.
+        self.0 ^ (self.0 >> 29)
+    }
+}
+
+/// Writes `mesh` as binary STL (positions rounded to `f32`, unit facet normals).
+pub(super) fn write<W: Write>(mut out: W, mesh: &TriMesh) -> std::io::Result<()> {
+    let mut header = [b' '; HEADER_BYTES];
+    let label = b"binary STL written by crestline";
+    header[..label.len()].copy_from_slice(label);
+    out.write_all(&header)?;
+    let count = u32::try_from(mesh.num_faces()).unwrap_or(u32::MAX);
+    out.write_all(&count.to_le_bytes())?;
+    for f in 0..count as usize {
+        let [a, b, c] = mesh.triangle(f);
+        let normal = (b - a)
+            .cross(&(c - a))
+            .try_normalize(0.0)
+            .unwrap_or_else(crate::mesh::Vec3::zeros);
+        let mut record = [0u8; RECORD_BYTES];
+        for (k, value) in normal
+            .iter()
+            .chain(a.iter())
+            .chain(b.iter())
+            .chain(c.iter())
+            .enumerate()
+        {
+            record[4 * k..4 * k + 4].copy_from_slice(&(*value as f32).to_le_bytes());
+        }
+        out.write_all(&record)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn parse_bytes(bytes: &[u8]) -> Result<MeshData> {
+        parse(bytes, Source::new(Path::new("t.stl")))
+    }
+
+    fn error(bytes: &[u8]) -> String {
+        parse_bytes(bytes).unwrap_err().to_string()
+    }
+
+    const ASCII: &str = "solid square\n\
+        facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 1 1 0\n\
+        endloop\nendfacet\n\
+        FACET NORMAL 0 0 1\n OUTER LOOP\n  VERTEX 0 0 0\n  VERTEX 1 1 0\n  VERTEX 0 1 0\n\
+        ENDLOOP\nENDFACET\n\
+        endsolid square\n";
+
+    /// A binary STL of the same two triangles, with `header` as the first header bytes.
+    fn binary(header: &[u8], triangles: &[[[f32; 3]; 3]]) -> Vec<u8> {
+        let mut bytes = vec![0u8; HEADER_BYTES];
+        bytes[..header.len()].copy_from_slice(header);
+        bytes.extend_from_slice(&(triangles.len() as u32).to_le_bytes());
+        for t in triangles {
+            bytes.extend_from_slice(&[0u8; 12]);
+            for c in t.iter().flatten() {
+                bytes.extend_from_slice(&c.to_le_bytes());
+            }
+            bytes.extend_from_slice(&[0u8; 2]);
+        }
+        bytes
+    }
+
+    const SQUARE: [[[f32; 3]; 3]; 2] = [
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
+        [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+    ];
+
+    #[test]
+    fn ascii_corners_are_welded() {
+        let m = parse_bytes(ASCII.as_bytes()).unwrap();
+        assert_eq!(m.positions.len(), 4);
+        assert_eq!(m.faces, vec![[0, 1, 2], [0, 2, 3]]);
+    }
+
+    #[test]
+    fn binary_corners_are_welded_even_when_the_header_says_solid() {
+        for header in [&b"solid trap"[..], b"exported by something"] {
+            let m = parse_bytes(&binary(header, &SQUARE)).unwrap();
+            assert_eq!(m.positions.len(), 4);
+            assert_eq!(m.positions[3], [0.0, 1.0, 0.0]);
+            assert_eq!(m.faces, vec![[0, 1, 2], [0, 2, 3]]);
+        }
+    }
+
+    #[test]
+    fn welding_is_bitwise() {
+        let mut t = SQUARE;
+        t[1][0] = [-0.0, 0.0, 0.0];
+        let m = parse_bytes(&binary(b"", &t)).unwrap();
+        assert_eq!(m.positions.len(), 5);
+    }
+
+    #[test]
+    fn trailing_bytes_after_binary_records_are_tolerated() {
+        let mut bytes = binary(b"x", &SQUARE);
+        bytes.extend_from_slice(b"padding");
+        assert_eq!(parse_bytes(&bytes).unwrap().faces.len(), 2);
+    }
+
+    #[test]
+    fn truncated_binary() {
+        let bytes = binary(b"x", &SQUARE);
+        assert_eq!(
+            error(&bytes[..bytes.len() - 10]),
+            "t.stl: byte 134: truncated data: the binary STL header declares 2 triangles \
+             (184 bytes) but the file has 174 bytes; triangle 1 is incomplete"
+        );
+        assert_eq!(
+            error(b"\x00\x01binary junk"),
+            "t.stl: byte 13: truncated data: 13 bytes is neither an ascii STL (it does not \
+             start with 'solid') nor a binary one (shorter than the 84-byte header)"
+        );
+        // A truncated binary whose header starts with "solid" is read as ascii; the error
+        // says what the binary reading would have been.
+        let bytes = binary(b"solid", &SQUARE);
+        let e = error(&bytes[..bytes.len() - 10]);
+        assert!(e.starts_with("t.stl: line 1: unexpected"), "{e}");
+        assert!(e.contains("declares 2 triangles, 184 bytes, and the file has 174"), "{e}");
+    }
+
+    #[test]
+    fn binary_nan_is_rejected_with_its_offset() {
+        let mut t = SQUARE;
+        t[1][2][2] = f32::NAN;
+        assert_eq!(
+            error(&binary(b"", &t)),
+            "t.stl: byte 178: triangle 1, corner 2: z coordinate is NaN or infinite (NaN)"
+        );
+    }
+
+    #[test]
+    fn ascii_errors() {
+        let bad = ASCII.replace("vertex 1 0 0", "vertex 1 zero 0");
+        assert_eq!(
+            error(bad.as_bytes()),
+            "t.stl: line 5: non-numeric token 'zero' where the y coordinate was expected"
+        );
+        let bad = ASCII.replace("vertex 1 0 0", "vertex 1 0 inf");
+        assert_eq!(
+            error(bad.as_bytes()),
+            "t.stl: line 5: z coordinate is NaN or infinite ('inf')"
+        );
+        let bad = ASCII.replace("  vertex 1 1 0\n", "");
+        assert_eq!(
+            error(bad.as_bytes()),
+            "t.stl: line 6: facet with 2 vertices (at least 3 needed)"
+        );
+        assert_eq!(
+            error(b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"),
+            "t.stl: line 4: truncated data: the file ends inside a facet"
+        );
+        assert!(error(b"solid x\nfacett\n").starts_with("t.stl: line 2: unexpected 'facett'"));
+    }
+
+    #[test]
+    fn writes_binary_that_reads_back() {
+        let data = parse_bytes(ASCII.as_bytes()).unwrap();
+        let mesh = TriMesh::from_arrays(data.positions.clone(), data.faces.clone()).unwrap();
+        let mut bytes = Vec::new();
+        write(&mut bytes, &mesh).unwrap();
+        assert_eq!(bytes.len(), 84 + 2 * 50);
+        assert_eq!(parse_bytes(&bytes).unwrap(), data);
+    }
+}

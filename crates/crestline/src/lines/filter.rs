@@ -1,0 +1,61 @@
+//! Dropping weak and short lines (HPW 2005, Table 1 step 6; YBS 2005 eq. 5).
+//!
+//! Both strengths are scale independent: the integral of |k| along a line (Ohtake et al.
+//! 2004, as HPW use) is dimensionless, and so is YBS's `T = ∫ds · ∫C ds`. The minimum length
+//! is given relative to the bounding-box diagonal for the same reason.
+
+use super::{FeatureLine, FeatureLines};
+
+/// Which strength a threshold applies to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StrengthMeasure {
+    /// `∫|k| ds` (Ohtake et al. 2004; the filter HPW use).
+    #[default]
+    CurvatureIntegral,
+    /// YBS's `T = ∫ds · ∫C ds` (eq. 5).
+    Cyclideness,
+}
+
+impl StrengthMeasure {
+    /// The measure's value for a line.
+    pub fn of(self, line: &FeatureLine) -> f64 {
+        match self {
+            StrengthMeasure::CurvatureIntegral => line.curvature_integral,
+            StrengthMeasure::Cyclideness => line.strength,
+        }
+    }
+}
+
+/// Options of [`filter_lines`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LineFilter {
+    /// The strength the threshold applies to. Default: [`StrengthMeasure::CurvatureIntegral`].
+    pub measure: StrengthMeasure,
+    /// Lines with a smaller strength are dropped. Default: 0 (keep all).
+    pub threshold: f64,
+    /// Lines shorter than this fraction of the bounding-box diagonal are dropped.
+    /// Default: 0.
+    pub min_length: f64,
+}
+
+impl Default for LineFilter {
+    fn default() -> Self {
+        LineFilter {
+            measure: StrengthMeasure::CurvatureIntegral,
+            threshold: 0.0,
+            min_length: 0.0,
+        }
+    }
+}
+
+/// Keeps the lines that pass `filter`; `diagonal` is the mesh's bounding-box diagonal.
+pub fn filter_lines(lines: FeatureLines, filter: &LineFilter, diagonal: f64) -> FeatureLines {
+    let min_length = filter.min_length * diagonal;
+    FeatureLines {
+        lines: lines
+            .lines
+            .into_iter()
+            .filter(|l| l.length >= min_length && filter.measure.of(l) >= filter.threshold)
+            .collect(),
+    }
+}

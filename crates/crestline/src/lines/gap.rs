@@ -1,0 +1,270 @@
+//! Gap jumping (YBS 2005, "Tracing and Thresholding Crest Lines", Fig. 4).
+//!
+//! Edge-based tracing leaves close, disconnected pieces of one crest line. In every vertex
+//! star that contains end points of two lines of the same kind, the two ends are joined when
+//! - `α ≤ π/3`: the angle between the first line's end segment (pointing out of the line) and
+//!   the connecting segment,
+//! - `β ≤ π/3`: the same at the second end, against the reversed connecting segment,
+//! - `γ ≤ π/2`: the angle between the first end segment and the reversed second end segment
+//!   (the two lines head towards each other).
+//!
+//! Candidate pairs are joined greedily, shortest gap first, each end at most once; a line is
+//! never joined to itself. A point on an edge belongs to the stars of the vertices of the
+//! faces around that edge.
+
+use std::collections::HashMap;
+
+use crate::mesh::{TriMesh, Vec3};
+
+use super::assemble::measure_line;
+use super::trace::Family;
+use super::{FeatureLine, SurfacePoint};
+
+/// Angle limits of gap jumping; YBS's values are the default.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GapJumping {
+    /// Largest α and β, radians. Default: π/3.
+    pub max_end_angle: f64,
+    /// Largest γ, radians. Default: π/2.
+    pub max_turn_angle: f64,
+}
+
+impl Default for GapJumping {
+    fn default() -> Self {
+        GapJumping {
+            max_end_angle: std::f64::consts::FRAC_PI_3,
+            max_turn_angle: std::f64::consts::FRAC_PI_2,
+        }
+    }
+}
+
+/// One end of a line: the line, which end, the end point and the outward end direction.
+#[derive(Debug, Clone, Copy)]
+struct End {
+    line: usize,
+    point: Vec3,
+    outward: Vec3,
+}
+
+/// Joins line pieces of `family`'s kind across small gaps; returns the number of joins.
+/// `lines` must hold lines of one kind with surface locations.
+pub fn jump_gaps(
+    mesh: &TriMesh,
+    family: &Family<'_>,
+    lines: &mut Vec<FeatureLine>,
+    options: &GapJumping,
+) -> usize {
+    let topo = mesh.topology();
+    let faces = mesh.faces();
+    let mut ends: Vec<End> = Vec::new();
+    let mut stars: HashMap<u32, Vec<usize>> = HashMap::new();
+    for (i, line) in lines.iter().enumerate() {
+        let n = line.points.len();
+        if line.closed || n < 2 || line.locations.len() != n {
+            continue;
+        }
+        for at_start in [true, false] {
+            let (end, inner) = if at_start { (0, 1) } else { (n - 1, n - 2) };
+            let Some(outward) = (line.points[end] - line.points[inner]).try_normalize(0.0) else {
+                continue;
+            };
+            let id = ends.len();
+            ends.push(End {
+                line: i,
+                point: line.points[end],
+                outward,
+            });
+            let mut vertices: Vec<u32> = match line.locations[end] {
+                SurfacePoint::Edge { edge, .. } => topo
+                    .edge_faces(edge)
+                    .iter()
+                    .flat_map(|&f| faces[f as usize])
+                    .collect(),
+                SurfacePoint::Face { face } => faces[face as usize].to_vec(),
+                SurfacePoint::Vertex(v) => vec![v],
+            };
+            vertices.sort_unstable();
+            vertices.dedup();
+            for v in vertices {
+                stars.entry(v).or_default().push(id);
+            }
+        }
+    }
+
+    let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
+    let mut star_keys: Vec<&u32> = stars.keys().collect();
+    star_keys.sort_unstable();
+    for v in star_keys {
+        let members = &stars[v];
+        for (x, &i) in members.iter().enumerate() {
+            for &j in &members[x + 1..] {
+                let (a, b) = (ends[i], ends[j]);
+                if a.line == b.line {
+                    continue;
+                }
+                let gap = b.point - a.point;
+                let Some(c) = gap.try_normalize(0.0) else {
+                    continue;
+                };
+                let angle = |u: Vec3, w: Vec3| u.dot(&w).clamp(-1.0, 1.0).acos();
+                let alpha = angle(a.outward, c);
+                let beta = angle(b.outward, -c);
+                let gamma = angle(a.outward, -b.outward);
+                if alpha <= options.max_end_angle
+                    && beta <= options.max_end_angle
+                    && gamma <= options.max_turn_angle
+                {
+                    candidates.push((gap.norm(), i.min(j), i.max(j)));
+                }
+            }
+        }
+    }
+    candidates.sort_by(|x, y| x.partial_cmp(y).unwrap_or(std::cmp::Ordering::Equal));
+    candidates.dedup();
+
+    // Union of lines as chains: join greedily, keeping track of which line each original
+    // line has been merged into and where its ends now are.
+    let mut used_end = vec![false; ends.len()];
+    let mut owner: Vec<usize> = (0..lines.len()).collect();
+    let mut alive = vec![true; lines.len()];
+    let mut joins = 0;
+    for (_, i, j) in candidates {
+        if used_end[i] || used_end[j] {
+            continue;
+        }
+        let (a, b) = (ends[i], ends[j]);
+        let (la, lb) = (find(&mut owner, a.line), find(&mut owner, b.line));
+        if la == lb {
+            continue;
+        }
+        // Orient: la must end at point a, lb must start at point b.
+        let placeholder = empty_like(&lines[la]);
+        let mut first = std::mem::replace(&mut lines[la], placeholder.clone());
+        let mut second = std::mem::replace(&mut lines[lb], placeholder);
+        if first.points.first() == Some(&a.point) && first.points.last() != Some(&a.point) {
+            first.points.reverse();
+            first.locations.reverse();
+        }
+        if second.points.last() == Some(&b.point) && second.points.first() != Some(&b.point) {
+            second.points.reverse();
+            second.locations.reverse();
+        }
+        first.points.extend(second.points);
+        first.locations.extend(second.locations);
+        measure_line(mesh, family, &mut first);
+        lines[la] = first;
+        alive[lb] = false;
+        owner[lb] = la;
+        used_end[i] = true;
+        used_end[j] = true;
+        joins += 1;
+    }
+    let mut k = 0;
+    lines.retain(|_| {
+        k += 1;
+        alive[k - 1]
+    });
+    joins
+}
+
+fn find(owner: &mut [usize], mut x: usize) -> usize {
+    while owner[x] != x {
+        owner[x] = owner[owner[x]];
+        x = owner[x];
+    }
+    x
+}
+
+fn empty_like(line: &FeatureLine) -> FeatureLine {
+    FeatureLine {
+        kind: line.kind,
+        points: Vec::new(),
+        locations: Vec::new(),
+        closed: false,
+        length: 0.0,
+        curvature_integral: 0.0,
+        strength: 0.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lines::LineKind;
+    use crate::shapes;
+
+    /// The face of a flat grid mesh containing (x, y).
+    fn locate(mesh: &TriMesh, x: f64, y: f64) -> SurfacePoint {
+        let inside = |f: usize| {
+            let [a, b, c] = mesh.triangle(f);
+            let side = |p: Vec3, q: Vec3| (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x);
+            let s = [side(a, b), side(b, c), side(c, a)];
+            s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
+        };
+        let face = (0..mesh.num_faces()).find(|&f| inside(f)).unwrap() as u32;
+        SurfacePoint::Face { face }
+    }
+
+    fn line(mesh: &TriMesh, pts: &[(f64, f64)]) -> FeatureLine {
+        FeatureLine {
+            kind: LineKind::Ridge,
+            points: pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
+            locations: pts.iter().map(|&(x, y)| locate(mesh, x, y)).collect(),
+            closed: false,
+            length: 0.0,
+            curvature_integral: 0.0,
+            strength: 0.0,
+        }
+    }
+
+    #[test]
+    fn joins_broken_pieces_but_not_sharp_corners() {
+        let mesh = shapes::height_field(|_, _| 0.0, [0.0, 6.0], [0.0, 3.0], 6, 3);
+        let n = mesh.num_vertices();
+        let zero = vec![0.0; n];
+        let dirs = vec![Vec3::x(); n];
+        let fam = Family {
+            kind: LineKind::Ridge,
+            k: &zero,
+            k_other: &zero,
+            e: &zero,
+            e_other: &zero,
+            dirs: &dirs,
+        };
+        // Two collinear pieces with a gap inside one cell: joined into one line.
+        let mut lines = vec![
+            line(&mesh, &[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
+            line(&mesh, &[(4.8, 1.5), (3.8, 1.5), (2.8, 1.5)]),
+        ];
+        assert_eq!(
+            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
+            1
+        );
+        assert_eq!(lines.len(), 1);
+        assert_eq!(lines[0].points.len(), 6);
+        assert!((lines[0].length - 4.5).abs() < 1e-12);
+        let xs: Vec<f64> = lines[0].points.iter().map(|p| p.x).collect();
+        assert!(xs.windows(2).all(|w| w[1] > w[0]), "{xs:?}");
+
+        // A piece meeting the first at a right angle: not joined.
+        let mut lines = vec![
+            line(&mesh, &[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
+            line(&mesh, &[(2.8, 2.8), (2.8, 2.2), (2.8, 1.6)]),
+        ];
+        assert_eq!(
+            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
+            0
+        );
+        assert_eq!(lines.len(), 2);
+
+        // Collinear but too far apart (no common vertex star): not joined.
+        let mut lines = vec![
+            line(&mesh, &[(0.3, 1.5), (1.3, 1.5)]),
+            line(&mesh, &[(3.5, 1.5), (4.5, 1.5)]),
+        ];
+        assert_eq!(
+            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
+            0
+        );
+    }
+}
