@@ -1,11 +1,14 @@
 //! Loading the input mesh: a file given by the user, or the built-in example.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 use crestline::TriMesh;
 use crestline::io::Format;
+
+/// The built-in example: the fandisk CAD part (see `crates/crestline/fixtures/README.md`).
+const BUILT_IN_EXAMPLE: &[u8] = include_bytes!("../../crestline/fixtures/fandisk.obj");
 
 /// Formats a user can force with `--format`.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -35,16 +38,19 @@ impl From<FormatArg> for Format {
 pub fn load_mesh(path: Option<&PathBuf>, format: Option<FormatArg>) -> Result<(TriMesh, String)> {
     match path {
         Some(p) => {
+            // Every reading error already names the file (and the position in it).
             let mesh = crestline::io::read_mesh(p, format.map(Into::into))
-                .with_context(|| format!("cannot load {}", p.display()))?;
+                .context("cannot load the mesh")?;
             Ok((mesh, p.display().to_string()))
         }
         None => {
-            eprintln!("no mesh given: using the built-in example (a triaxial ellipsoid)");
-            Ok((
-                crestline::shapes::ellipsoid(3.0, 2.0, 1.0, 5),
-                "built-in ellipsoid".into(),
-            ))
+            eprintln!(
+                "no mesh given: using the built-in example (fandisk, a CAD part with sharp creases)"
+            );
+            let name = "fandisk.obj (built-in)";
+            let mesh =
+                crestline::io::read_mesh_bytes(BUILT_IN_EXAMPLE, Format::Obj, Path::new(name))?;
+            Ok((mesh, name.into()))
         }
     }
 }

@@ -6,12 +6,15 @@
 //!
 //! Run: `cargo bench -p crestline --bench io`. Needs the meshes in `shared/data/meshes`.
 
+// Test code: stopping loudly on the first surprise is the point.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use crestline::io::{Format, parse_mesh_bytes, read_mesh_bytes};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
 fn meshes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes")

@@ -61,7 +61,11 @@ pub const MAX_SCALES: usize = 4;
 ///
 /// # Errors
 /// [`Error::InvalidInput`] when `scales` is not in `1..=4` or `lambda` is not positive.
-pub fn mesh_saliency(mesh: &TriMesh, curvature: &Curvature, options: &SaliencyOptions) -> Result<Saliency> {
+pub fn mesh_saliency(
+    mesh: &TriMesh,
+    curvature: &Curvature,
+    options: &SaliencyOptions,
+) -> Result<Saliency> {
     if !(1..=MAX_SCALES).contains(&options.scales) {
         return Err(Error::InvalidInput(format!(
             "saliency scales must be 1 to {MAX_SCALES}, got {}",
@@ -116,7 +120,13 @@ pub fn mesh_saliency(mesh: &TriMesh, curvature: &Curvature, options: &SaliencyOp
                     }
                 }
             });
-            let g = |k: usize| if den[k] > 0.0 { num[k] / den[k] } else { curv[v] };
+            let g = |k: usize| {
+                if den[k] > 0.0 {
+                    num[k] / den[k]
+                } else {
+                    curv[v]
+                }
+            };
             (0..options.scales).map(|k| (g(k + 1) - g(k)).abs()).sum()
         })
         .collect();
@@ -125,7 +135,11 @@ pub fn mesh_saliency(mesh: &TriMesh, curvature: &Curvature, options: &SaliencyOp
         .zip(&var)
         .map(|(c, v)| options.curvature_weight * c + options.variation_weight * v)
         .collect();
-    Ok(Saliency { curv, var, saliency })
+    Ok(Saliency {
+        curv,
+        var,
+        saliency,
+    })
 }
 
 #[cfg(test)]
@@ -143,14 +157,19 @@ mod tests {
         let at = |x: f64, y: f64| {
             (0..mesh.num_vertices())
                 .min_by(|&a, &b| {
-                    let d = |i: usize| (mesh.positions()[i].x - x).powi(2) + (mesh.positions()[i].y - y).powi(2);
+                    let d = |i: usize| {
+                        (mesh.positions()[i].x - x).powi(2) + (mesh.positions()[i].y - y).powi(2)
+                    };
                     d(a).total_cmp(&d(b))
                 })
                 .unwrap()
         };
         let crease = s.saliency[at(0.0, 0.0)];
         let flat = s.saliency[at(1.0, 0.0)];
-        assert!(crease > 5.0 * flat.max(1e-12), "crease {crease} flat {flat}");
+        assert!(
+            crease > 5.0 * flat.max(1e-12),
+            "crease {crease} flat {flat}"
+        );
     }
 
     #[test]

@@ -130,11 +130,19 @@ mod tests {
         let pts: Vec<Vec3> = (0..500)
             .map(|i| {
                 let f = i as f64;
-                Vec3::new((f * 0.37).sin() * 3.0, (f * 0.11).cos() * 2.0, (f * 0.05).sin())
+                Vec3::new(
+                    (f * 0.37).sin() * 3.0,
+                    (f * 0.11).cos() * 2.0,
+                    (f * 0.05).sin(),
+                )
             })
             .collect();
         let grid = PointGrid::new(&pts, 0.4);
-        for q in [Vec3::zeros(), Vec3::new(2.0, -1.0, 0.5), Vec3::new(9.0, 9.0, 9.0)] {
+        for q in [
+            Vec3::zeros(),
+            Vec3::new(2.0, -1.0, 0.5),
+            Vec3::new(9.0, 9.0, 9.0),
+        ] {
             for r in [0.3, 0.4, 1.1] {
                 let mut found = Vec::new();
                 grid.for_each_within(q, r, |i, _| found.push(i));
@@ -145,7 +153,10 @@ mod tests {
                 assert_eq!(found, brute, "q {q:?} r {r}");
             }
         }
-        assert_eq!(grid.nearest_within(pts[7] + Vec3::repeat(1e-9), 0.1), Some(7));
+        assert_eq!(
+            grid.nearest_within(pts[7] + Vec3::repeat(1e-9), 0.1),
+            Some(7)
+        );
     }
 
     #[test]

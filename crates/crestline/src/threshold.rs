@@ -97,10 +97,15 @@ mod tests {
 
     #[test]
     fn flat_curves_have_no_knee() {
-        let sphere: Vec<f64> = (0..1000).map(|i| 1.0 + ((i * 37) % 101) as f64 * 1e-5).collect();
+        let sphere: Vec<f64> = (0..1000)
+            .map(|i| 1.0 + ((i * 37) % 101) as f64 * 1e-5)
+            .collect();
         assert_eq!(seek_threshold(&sphere, &KneeSearch::default()), None);
         assert_eq!(seek_threshold(&[1.0; 3], &KneeSearch::default()), None);
-        assert_eq!(seek_threshold(&[f64::NAN; 100], &KneeSearch::default()), None);
+        assert_eq!(
+            seek_threshold(&[f64::NAN; 100], &KneeSearch::default()),
+            None
+        );
     }
 
     #[test]

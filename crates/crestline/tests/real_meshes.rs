@@ -1,6 +1,9 @@
 //! Reading the real test meshes in `shared/data/meshes` (see its README): every one loads,
 //! the counts their sources document come out, and writing then reading them is exact.
 
+// Test code: stopping loudly on the first surprise is the point.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use std::path::{Path, PathBuf};
 
 use crestline::io::{Format, PlyEncoding, WriteOptions, read_mesh, read_mesh_bytes, write_mesh_to};
@@ -136,11 +139,11 @@ fn assert_round_trips(name: &str) {
         let back = read_mesh_bytes(&bytes, format, Path::new(name)).unwrap();
         let what = format!("{name} as {format} {encoding:?}");
         assert_eq!(back.faces(), mesh.faces(), "{what}");
-        let same = back
-            .positions()
-            .iter()
-            .zip(mesh.positions())
-            .all(|(a, b)| a.iter().zip(b.iter()).all(|(x, y)| x.to_bits() == y.to_bits()));
+        let same = back.positions().iter().zip(mesh.positions()).all(|(a, b)| {
+            a.iter()
+                .zip(b.iter())
+                .all(|(x, y)| x.to_bits() == y.to_bits())
+        });
         assert!(same && back.num_vertices() == mesh.num_vertices(), "{what}");
     }
 }

@@ -481,11 +481,18 @@ mod tests {
         let text = String::from_utf8(out).unwrap();
         assert!(text.contains("element vertex 7\n"), "{text}");
         assert!(text.contains("element edge 5\nproperty int vertex1\nproperty int vertex2\n"));
-        assert!(text.ends_with("0 1 1\n2 3 0\n3 4 0\n4 2 0\n5 6 0\n"), "{text}");
+        assert!(
+            text.ends_with("0 1 1\n2 3 0\n3 4 0\n4 2 0\n5 6 0\n"),
+            "{text}"
+        );
         // The binary file has the same header and 7 * 24 + 5 * 9 bytes of data.
         let mut binary = Vec::new();
         write_lines_ply(&mut binary, &sample(), PlyEncoding::BinaryLittleEndian).unwrap();
-        let end = binary.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+        let end = binary
+            .windows(11)
+            .position(|w| w == b"end_header\n")
+            .unwrap()
+            + 11;
         assert_eq!(binary.len() - end, 7 * 24 + 5 * 9);
         // Both read back as meshes with the line points as vertices.
         for bytes in [text.as_bytes(), &binary[..]] {
@@ -498,9 +505,18 @@ mod tests {
 
     #[test]
     fn lines_format_by_extension() {
-        assert_eq!(LinesFormat::from_path(Path::new("a.JSON")), Some(LinesFormat::Json));
-        assert_eq!(LinesFormat::from_path(Path::new("a.obj")), Some(LinesFormat::Obj));
-        assert_eq!(LinesFormat::from_path(Path::new("a.ply")), Some(LinesFormat::Ply));
+        assert_eq!(
+            LinesFormat::from_path(Path::new("a.JSON")),
+            Some(LinesFormat::Json)
+        );
+        assert_eq!(
+            LinesFormat::from_path(Path::new("a.obj")),
+            Some(LinesFormat::Obj)
+        );
+        assert_eq!(
+            LinesFormat::from_path(Path::new("a.ply")),
+            Some(LinesFormat::Ply)
+        );
         assert_eq!(LinesFormat::from_path(Path::new("a.txt")), None);
     }
 }

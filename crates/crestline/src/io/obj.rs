@@ -17,7 +17,9 @@
 
 use std::io::Write;
 
-use super::text::{Lines, Source, Tokens, is_blank, parse_i64, show, vertex};
+use super::text::{
+    Lines, Source, Tokens, is_blank, is_space, parse_i64, short_decimal_prefix, show, vertex,
+};
 use super::{MeshData, push_fan, write_f64};
 use crate::error::Result;
 use crate::mesh::TriMesh;
@@ -43,26 +45,28 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
         };
         match keyword {
             b"v" => {
-                let p = vertex(&mut tokens, positions.len() + 1)
-                    .map_err(|m| source.at_line(line, m))?;
+                let p = match fast_vertex(tokens.remainder()) {
+                    Some(p) => p,
+                    None => vertex(&mut tokens, positions.len() + 1)
+                        .map_err(|m| source.at_line(line, m))?,
+                };
                 positions.push(p);
             }
             b"f" => {
                 corners.clear();
-                let mut largest = 0u64;
-                for token in tokens {
-                    let index = vertex_index(token, positions.len())
-                        .map_err(|m| source.at_line(line, m))?;
-                    largest = largest.max(u64::from(index));
-                    corners.push(index);
+                if fast_corners(tokens.remainder(), positions.len(), &mut corners).is_none() {
+                    corners.clear();
+                    for token in tokens {
+                        let index = vertex_index(token, positions.len())
+                            .map_err(|m| source.at_line(line, m))?;
+                        corners.push(index);
+                    }
                 }
+                let largest = corners.iter().copied().max().map_or(0, u64::from);
                 if corners.len() < 3 {
                     return Err(source.at_line(
                         line,
-                        format!(
-                            "face with {} vertices (at least 3 needed)",
-                            corners.len()
-                        ),
+                        format!("face with {} vertices (at least 3 needed)", corners.len()),
                     ));
                 }
                 if largest >= positions.len() as u64 {
@@ -91,6 +95,75 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
         )));
     }
     Ok(MeshData { positions, faces })
+}
+
+/// The three coordinates of a `v` record in one pass over `rest` (the text after `v`), for
+/// the usual plain decimals; `None` sends anything else to the token path, which handles
+/// every form and words the errors. Numbers after the third (w, colours) are ignored, as
+/// on the token path.
+#[inline]
+fn fast_vertex(rest: &[u8]) -> Option<[f64; 3]> {
+    let mut p = [0.0; 3];
+    let mut at = 0;
+    for c in &mut p {
+        at += rest.get(at..)?.iter().position(|&b| !is_space(b))?;
+        let (x, used) = short_decimal_prefix(&rest[at..])?;
+        at += used;
+        // The number must end its token, as on the token path.
+        if rest.get(at).is_some_and(|&b| !is_space(b)) {
+            return None;
+        }
+        *c = x;
+    }
+    Some(p)
+}
+
+/// The 0-based corners of an `f` record in one pass over `rest` (the text after `f`);
+/// `None` (with `corners` partly filled) sends anything unusual or wrong to the token path.
+#[inline]
+fn fast_corners(rest: &[u8], vertices_so_far: usize, corners: &mut Vec<u32>) -> Option<()> {
+    let mut i = 0;
+    loop {
+        while rest.get(i).is_some_and(|&b| is_space(b)) {
+            i += 1;
+        }
+        match rest.get(i) {
+            None | Some(b'#') => return Some(()),
+            _ => {}
+        }
+        let negative = rest[i] == b'-';
+        i += usize::from(negative);
+        let start = i;
+        let mut value: u64 = 0;
+        while let Some(d) = rest
+            .get(i)
+            .map(|b| b.wrapping_sub(b'0'))
+            .filter(|&d| d < 10)
+        {
+            value = value * 10 + u64::from(d);
+            i += 1;
+            if i - start > 10 {
+                return None;
+            }
+        }
+        if i == start || value == 0 {
+            return None;
+        }
+        // Texture and normal indices after a slash are not used.
+        if rest.get(i) == Some(&b'/') {
+            while rest.get(i).is_some_and(|&b| !is_space(b)) {
+                i += 1;
+            }
+        } else if rest.get(i).is_some_and(|&b| !is_space(b)) {
+            return None;
+        }
+        let index = if negative {
+            (vertices_so_far as u64).checked_sub(value)?
+        } else {
+            value - 1
+        };
+        corners.push(u32::try_from(index).ok()?);
+    }
 }
 
 /// The 0-based vertex index of a face corner `v`, `v/vt`, `v//vn` or `v/vt/vn`, given the
@@ -177,16 +250,12 @@ mod tests {
         .unwrap();
         assert_eq!(m.positions.len(), 4);
         assert_eq!(m.positions[1], [1.0, 0.0, 0.0]);
-        assert_eq!(
-            m.faces,
-            vec![[0, 1, 2], [0, 2, 3], [0, 1, 2], [0, 2, 3]]
-        );
+        assert_eq!(m.faces, vec![[0, 1, 2], [0, 2, 3], [0, 1, 2], [0, 2, 3]]);
     }
 
     #[test]
     fn negative_indices_are_relative_to_the_last_vertex() {
-        let m = parse_str("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 5 5\nf -4 -3 -1\n")
-            .unwrap();
+        let m = parse_str("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 5 5\nf -4 -3 -1\n").unwrap();
         assert_eq!(m.faces, vec![[0, 1, 2], [0, 1, 3]]);
     }
 
@@ -208,6 +277,53 @@ mod tests {
         let m = read_mesh_bytes(bytes, Format::Obj, Path::new("t.obj")).unwrap();
         assert_eq!(m.num_faces(), 1);
         assert_eq!(m.degenerate_faces(), 1);
+    }
+
+    #[test]
+    fn fast_paths_agree_with_the_token_path() {
+        for rest in [
+            " 1 2 3",
+            "\t-1.5 +2 3e2 0.5 0.5",
+            " 1 2",
+            " 1 2 x",
+            " 1 2 3#c",
+            " 1e400 0 0",
+            " nan 0 0",
+            " 0.1 0.2 0.30000000000000004",
+            " 1. .5 -0",
+        ] {
+            let fast = fast_vertex(rest.as_bytes());
+            let slow = vertex(&mut Tokens::new(rest.as_bytes()), 1).ok();
+            if let Some(p) = fast {
+                assert_eq!(Some(p), slow, "{rest}");
+            }
+        }
+        for rest in [
+            " 1 2 3",
+            " 1/1/1 2//2 3/3",
+            " -1 -2 -3",
+            " -4 1 2",
+            " 0 1 2",
+            " 1 2x 3",
+            " 1 2 3 # c",
+            " 99999999999 1 2",
+            " 1/x 2 3",
+            "",
+            " 4294967296 1 2",
+        ] {
+            let mut fast = Vec::new();
+            let fast_ok = fast_corners(rest.as_bytes(), 3, &mut fast).is_some();
+            let slow: Result<Vec<u32>, String> = Tokens::new(rest.as_bytes())
+                .map(|t| vertex_index(t, 3))
+                .collect();
+            if fast_ok {
+                assert_eq!(Ok(fast), slow, "{rest}");
+            }
+        }
+        assert_eq!(fast_vertex(b" 1 -2.5 3e2 7"), Some([1.0, -2.5, 300.0]));
+        let mut c = Vec::new();
+        assert!(fast_corners(b" 1/2/3 -1//4 2", 3, &mut c).is_some());
+        assert_eq!(c, vec![0, 2, 1]);
     }
 
     #[test]

@@ -157,10 +157,7 @@ fn check_header_prefix(prefix: &[u8]) -> Result<(), String> {
     }
     match rest {
         b"" => Ok(()),
-        b"4" | b"n" | b"4n" => Err(format!(
-            "{}OFF (not 3D) is not supported",
-            show(prefix)
-        )),
+        b"4" | b"n" | b"4n" => Err(format!("{}OFF (not 3D) is not supported", show(prefix))),
         _ => Err(format!(
             "malformed header: unknown header keyword '{}OFF'",
             show(prefix)
@@ -246,13 +243,22 @@ mod tests {
             error("OFF\n3 x 0\n"),
             "t.off: line 2: malformed header: face count 'x' is not a non-negative integer"
         );
-        assert_eq!(error("OFF\n3\n"), "t.off: line 2: malformed header: missing face count");
-        assert_eq!(error("4OFF\n3 1 0\n"), "t.off: line 1: 4OFF (not 3D) is not supported");
+        assert_eq!(
+            error("OFF\n3\n"),
+            "t.off: line 2: malformed header: missing face count"
+        );
+        assert_eq!(
+            error("4OFF\n3 1 0\n"),
+            "t.off: line 1: 4OFF (not 3D) is not supported"
+        );
         assert_eq!(
             error("XOFF\n3 1 0\n"),
             "t.off: line 1: malformed header: unknown header keyword 'XOFF'"
         );
-        assert_eq!(error("OFF\n"), "t.off: line 1: missing counts line after OFF header");
+        assert_eq!(
+            error("OFF\n"),
+            "t.off: line 1: missing counts line after OFF header"
+        );
     }
 
     #[test]
@@ -284,8 +290,14 @@ mod tests {
             with("3 0 -1 2\n"),
             "t.off: line 6: face 0: vertex index -1 out of range (the file has 3 vertices)"
         );
-        assert_eq!(with("2 0 1\n"), "t.off: line 6: face 0 has 2 vertices (at least 3 needed)");
-        assert_eq!(with("3 0 1\n"), "t.off: line 6: face 0 lists 2 of its 3 vertex indices");
+        assert_eq!(
+            with("2 0 1\n"),
+            "t.off: line 6: face 0 has 2 vertices (at least 3 needed)"
+        );
+        assert_eq!(
+            with("3 0 1\n"),
+            "t.off: line 6: face 0 lists 2 of its 3 vertex indices"
+        );
         assert_eq!(
             with("3 0 one 2\n"),
             "t.off: line 6: non-numeric token 'one' where a vertex index of face 0 was expected"

@@ -160,9 +160,8 @@ struct Header {
 }
 
 fn parse_header(bytes: &[u8], source: Source<'_>) -> Result<Header> {
-    let malformed = |line: usize, message: String| {
-        source.at_line(line, format!("malformed header: {message}"))
-    };
+    let malformed =
+        |line: usize, message: String| source.at_line(line, format!("malformed header: {message}"));
     let mut lines = Lines::new(bytes);
     match lines.next() {
         Some((_, first)) if first.trim_ascii() == b"ply" => {}
@@ -181,7 +180,7 @@ fn parse_header(bytes: &[u8], source: Source<'_>) -> Result<Header> {
     let mut encoding = None;
     let mut elements: Vec<Element> = Vec::new();
     let mut end = None;
-    while let Some((line, text)) = lines.next() {
+    for (line, text) in lines.by_ref() {
         // Header lines are ascii; comments may hold anything, so `#` is not special here.
         let mut tokens = text
             .split(|&b| super::text::is_space(b))
@@ -198,10 +197,7 @@ fn parse_header(bytes: &[u8], source: Source<'_>) -> Result<Header> {
                     b"binary_little_endian" => PlyEncoding::BinaryLittleEndian,
                     b"binary_big_endian" => PlyEncoding::BinaryBigEndian,
                     _ => {
-                        return Err(malformed(
-                            line,
-                            format!("unknown format '{}'", show(name)),
-                        ));
+                        return Err(malformed(line, format!("unknown format '{}'", show(name))));
                     }
                 });
             }
@@ -214,7 +210,10 @@ fn parse_header(bytes: &[u8], source: Source<'_>) -> Result<Header> {
                     .ok_or_else(|| {
                         malformed(
                             line,
-                            format!("element count '{}' is not a non-negative integer", show(count)),
+                            format!(
+                                "element count '{}' is not a non-negative integer",
+                                show(count)
+                            ),
                         )
                     })?;
                 elements.push(Element {
@@ -261,7 +260,10 @@ fn parse_header(bytes: &[u8], source: Source<'_>) -> Result<Header> {
                 break;
             }
             other => {
-                return Err(malformed(line, format!("unknown keyword '{}'", show(other))));
+                return Err(malformed(
+                    line,
+                    format!("unknown keyword '{}'", show(other)),
+                ));
             }
         }
     }
@@ -345,7 +347,9 @@ fn assign_roles(elements: &mut [Element]) -> Result<usize, String> {
     }
     let count = vertex_count.ok_or("no vertex element")?;
     if count > u32::MAX as usize {
-        return Err(format!("{count} vertices is more than the 2^32-1 crestline indexes"));
+        return Err(format!(
+            "{count} vertices is more than the 2^32-1 crestline indexes"
+        ));
     }
     Ok(count)
 }
@@ -369,8 +373,10 @@ trait Values {
     fn float(&mut self, ty: Scalar) -> Result<f64, Fault>;
     fn int(&mut self, ty: Scalar) -> Result<i64, Fault>;
     fn skip(&mut self, ty: Scalar, n: usize) -> Result<(), Fault>;
-    /// Skips `records` records of `size` bytes at once, when the encoding allows it.
-    fn skip_fixed(&mut self, records: usize, size: usize) -> Option<Result<(), Fault>>;
+    /// Takes `records` records of `size` bytes at once, when the encoding allows it (binary):
+    /// their bytes, the offset of the first one, and whether they are big-endian. The error
+    /// is the index of the first record that is cut off.
+    fn fixed_block(&mut self, records: usize, size: usize) -> Option<Result<Block<'_>, usize>>;
     /// Fails early when `n` values of `ty` cannot possibly follow (bounds list lengths
     /// before anything is allocated for them).
     fn room_for(&self, n: usize, ty: Scalar) -> Result<(), Fault>;
@@ -378,7 +384,59 @@ trait Values {
     fn location(&self) -> Location;
 }
 
-/// Binary values; `BIG` selects big-endian.
+/// Consecutive fixed-size binary records.
+struct Block<'a> {
+    bytes: &'a [u8],
+    offset: usize,
+    big_endian: bool,
+}
+
+/// Reads a `$t` from the start of `$bytes` in the given byte order, returning `None` from
+/// the enclosing function when the bytes are too few.
+macro_rules! scalar_from {
+    ($bytes:ident, $big_endian:ident, $t:ty) => {{
+        let b = *$bytes.first_chunk::<{ std::mem::size_of::<$t>() }>()?;
+        if $big_endian {
+            <$t>::from_be_bytes(b)
+        } else {
+            <$t>::from_le_bytes(b)
+        }
+    }};
+}
+
+/// Decodes one binary scalar from the start of `bytes` as `f64` (`None` if too short).
+#[inline]
+fn decode_f64(ty: Scalar, big_endian: bool, bytes: &[u8]) -> Option<f64> {
+    Some(match ty {
+        Scalar::I8 => f64::from(scalar_from!(bytes, big_endian, i8)),
+        Scalar::U8 => f64::from(scalar_from!(bytes, big_endian, u8)),
+        Scalar::I16 => f64::from(scalar_from!(bytes, big_endian, i16)),
+        Scalar::U16 => f64::from(scalar_from!(bytes, big_endian, u16)),
+        Scalar::I32 => f64::from(scalar_from!(bytes, big_endian, i32)),
+        Scalar::U32 => f64::from(scalar_from!(bytes, big_endian, u32)),
+        Scalar::F32 => f64::from(scalar_from!(bytes, big_endian, f32)),
+        Scalar::F64 => scalar_from!(bytes, big_endian, f64),
+    })
+}
+
+/// Decodes one binary integer scalar (the header keeps float types out of counts and
+/// indices; should one get here it is truncated towards zero).
+#[inline]
+fn decode_i64(ty: Scalar, big_endian: bool, bytes: &[u8]) -> Option<i64> {
+    Some(match ty {
+        Scalar::I8 => i64::from(scalar_from!(bytes, big_endian, i8)),
+        Scalar::U8 => i64::from(scalar_from!(bytes, big_endian, u8)),
+        Scalar::I16 => i64::from(scalar_from!(bytes, big_endian, i16)),
+        Scalar::U16 => i64::from(scalar_from!(bytes, big_endian, u16)),
+        Scalar::I32 => i64::from(scalar_from!(bytes, big_endian, i32)),
+        Scalar::U32 => i64::from(scalar_from!(bytes, big_endian, u32)),
+        Scalar::F32 => scalar_from!(bytes, big_endian, f32) as i64,
+        Scalar::F64 => scalar_from!(bytes, big_endian, f64) as i64,
+    })
+}
+
+/// Binary values; `BIG` selects big-endian (a constant, so each byte order gets its own
+/// compiled walker).
 struct Binary<'a, const BIG: bool> {
     data: &'a [u8],
     position: usize,
@@ -387,57 +445,25 @@ struct Binary<'a, const BIG: bool> {
 
 impl<const BIG: bool> Binary<'_, BIG> {
     #[inline]
-    fn take<const N: usize>(&mut self) -> Result<[u8; N], Fault> {
+    fn rest(&mut self) -> &[u8] {
         self.last = self.position;
-        let bytes = self
-            .data
-            .get(self.position..)
-            .and_then(|rest| rest.first_chunk::<N>())
-            .ok_or(Fault::End)?;
-        self.position += N;
-        Ok(*bytes)
+        self.data.get(self.position..).unwrap_or_default()
     }
-}
-
-macro_rules! read_as {
-    ($self:ident, $t:ty) => {{
-        let b = $self.take::<{ std::mem::size_of::<$t>() }>()?;
-        if BIG {
-            <$t>::from_be_bytes(b)
-        } else {
-            <$t>::from_le_bytes(b)
-        }
-    }};
 }
 
 impl<const BIG: bool> Values for Binary<'_, BIG> {
     #[inline]
     fn float(&mut self, ty: Scalar) -> Result<f64, Fault> {
-        Ok(match ty {
-            Scalar::I8 => f64::from(read_as!(self, i8)),
-            Scalar::U8 => f64::from(read_as!(self, u8)),
-            Scalar::I16 => f64::from(read_as!(self, i16)),
-            Scalar::U16 => f64::from(read_as!(self, u16)),
-            Scalar::I32 => f64::from(read_as!(self, i32)),
-            Scalar::U32 => f64::from(read_as!(self, u32)),
-            Scalar::F32 => f64::from(read_as!(self, f32)),
-            Scalar::F64 => read_as!(self, f64),
-        })
+        let x = decode_f64(ty, BIG, self.rest()).ok_or(Fault::End)?;
+        self.position += ty.size();
+        Ok(x)
     }
 
     #[inline]
     fn int(&mut self, ty: Scalar) -> Result<i64, Fault> {
-        Ok(match ty {
-            Scalar::I8 => i64::from(read_as!(self, i8)),
-            Scalar::U8 => i64::from(read_as!(self, u8)),
-            Scalar::I16 => i64::from(read_as!(self, i16)),
-            Scalar::U16 => i64::from(read_as!(self, u16)),
-            Scalar::I32 => i64::from(read_as!(self, i32)),
-            Scalar::U32 => i64::from(read_as!(self, u32)),
-            // The header check keeps float types out of counts and indices.
-            Scalar::F32 => read_as!(self, f32) as i64,
-            Scalar::F64 => read_as!(self, f64) as i64,
-        })
+        let i = decode_i64(ty, BIG, self.rest()).ok_or(Fault::End)?;
+        self.position += ty.size();
+        Ok(i)
     }
 
     #[inline]
@@ -448,19 +474,26 @@ impl<const BIG: bool> Values for Binary<'_, BIG> {
         Ok(())
     }
 
-    fn skip_fixed(&mut self, records: usize, size: usize) -> Option<Result<(), Fault>> {
-        let remaining = self.data.len() - self.position.min(self.data.len());
+    fn fixed_block(&mut self, records: usize, size: usize) -> Option<Result<Block<'_>, usize>> {
+        let start = self.position.min(self.data.len());
+        let remaining = self.data.len() - start;
         let total = records.checked_mul(size).filter(|&t| t <= remaining);
         Some(match total {
             Some(t) => {
-                self.position += t;
-                Ok(())
+                self.position = start + t;
+                Ok(Block {
+                    bytes: &self.data[start..start + t],
+                    offset: start,
+                    big_endian: BIG,
+                })
             }
             None => {
-                // Point at the first record that does not fit.
-                self.position += remaining / size.max(1) * size;
+                // Point at the first record that does not fit (size > 0 here: records of
+                // zero bytes always fit).
+                let complete = remaining / size.max(1);
+                self.position = start + complete * size;
                 self.last = self.position;
-                Err(Fault::End)
+                Err(complete)
             }
         })
     }
@@ -518,7 +551,7 @@ impl Values for Ascii<'_> {
         Ok(())
     }
 
-    fn skip_fixed(&mut self, _records: usize, _size: usize) -> Option<Result<(), Fault>> {
+    fn fixed_block(&mut self, _records: usize, _size: usize) -> Option<Result<Block<'_>, usize>> {
         None
     }
 
@@ -594,21 +627,22 @@ fn decode<V: Values>(
             source.at(values.location(), message)
         };
         let keeps_nothing = element.properties.iter().all(|p| p.role == Role::Skip);
-        if keeps_nothing {
-            if let Some(size) = element.fixed_size() {
-                if let Some(result) = values.skip_fixed(element.count, size) {
-                    result.map_err(|fault| {
-                        let record = match values.location() {
-                            Location::Byte(_) => {
-                                // skip_fixed stops at the first record that does not fit.
-                                element.count.min(body_len / size.max(1))
-                            }
-                            _ => 0,
-                        };
-                        record_error(values, record, fault)
-                    })?;
+        // Binary elements of scalars only (vertices nearly always, and most elements that are
+        // skipped) are taken as one block: one bounds check instead of one per value.
+        if let Some(size) = element
+            .fixed_size()
+            .filter(|_| keeps_nothing || element.is_vertex())
+        {
+            match values.fixed_block(element.count, size) {
+                Some(Ok(block)) => {
+                    if !keeps_nothing {
+                        read_vertex_block(&block, size, element, &mut positions)
+                            .map_err(|(at, m)| source.at_byte(at, m))?;
+                    }
                     continue;
                 }
+                Some(Err(record)) => return Err(record_error(values, record, Fault::End)),
+                None => {}
             }
         }
         if element.name == "face" {
@@ -650,6 +684,51 @@ fn decode<V: Values>(
     Ok(MeshData { positions, faces })
 }
 
+/// Decodes the positions of a block of fixed-size vertex records; the error is a byte
+/// offset and a message.
+fn read_vertex_block(
+    block: &Block<'_>,
+    size: usize,
+    element: &Element,
+    positions: &mut Vec<[f64; 3]>,
+) -> Result<(), (usize, String)> {
+    // Offset and type of x, y and z inside a record.
+    let mut fields = [(0usize, Scalar::F32); 3];
+    let mut offset = 0;
+    for p in &element.properties {
+        if let Kind::Scalar(ty) = p.kind {
+            if let Role::Coordinate(axis) = p.role {
+                fields[axis] = (offset, ty);
+            }
+            offset += ty.size();
+        }
+    }
+    positions.reserve(element.count);
+    for (record, bytes) in block.bytes.chunks_exact(size.max(1)).enumerate() {
+        let mut point = [0.0f64; 3];
+        for (axis, &(at, ty)) in fields.iter().enumerate() {
+            let byte = block.offset + record * size + at;
+            // The block holds whole records, so the field is always there.
+            let x = bytes
+                .get(at..)
+                .and_then(|b| decode_f64(ty, block.big_endian, b))
+                .ok_or_else(|| (byte, format!("truncated data in vertex {record}")))?;
+            if !x.is_finite() {
+                return Err((
+                    byte,
+                    format!(
+                        "vertex {record} has a NaN or infinite {} coordinate ({x})",
+                        ["x", "y", "z"][axis]
+                    ),
+                ));
+            }
+            point[axis] = x;
+        }
+        positions.push(point);
+    }
+    Ok(())
+}
+
 /// A failure while reading a property: a read fault or a message about the values.
 enum ValueError {
     Fault(Fault),
@@ -682,7 +761,7 @@ fn read_property<V: Values>(
             };
             match role {
                 Role::Polygon => read_polygon(values, n, item, vertex_count, corners, faces)?,
-                Role::Strips => read_strips(values, n, item, vertex_count, corners, faces)?,
+                Role::Strips => read_strips(values, n, item, vertex_count, faces)?,
                 _ => values.skip(item, n)?,
             }
         }
@@ -715,6 +794,14 @@ fn read_polygon<V: Values>(
         )));
     }
     values.room_for(n, item)?;
+    if n == 3 {
+        // Most faces are triangles: no corner buffer.
+        let a = checked_index(values.int(item)?, vertex_count)?;
+        let b = checked_index(values.int(item)?, vertex_count)?;
+        let c = checked_index(values.int(item)?, vertex_count)?;
+        faces.push([a, b, c]);
+        return Ok(());
+    }
     corners.clear();
     for _ in 0..n {
         corners.push(checked_index(values.int(item)?, vertex_count)?);
@@ -728,38 +815,49 @@ fn read_strips<V: Values>(
     n: usize,
     item: Scalar,
     vertex_count: usize,
-    strip: &mut Vec<u32>,
     faces: &mut Vec<[u32; 3]>,
 ) -> Result<(), ValueError> {
     values.room_for(n, item)?;
     faces.reserve(n);
-    strip.clear();
+    let mut strip = StripDecoder::default();
     for _ in 0..n {
         match values.int(item)? {
-            -1 => {
-                push_strip(faces, strip);
-                strip.clear();
-            }
-            i => strip.push(checked_index(i, vertex_count)?),
+            -1 => strip.restart(),
+            i => strip.push(checked_index(i, vertex_count)?, faces),
         }
     }
-    push_strip(faces, strip);
     Ok(())
 }
 
-/// Appends the triangles of one strip: (s0 s1 s2), (s2 s1 s3), (s2 s3 s4), ... — every odd
-/// triangle swaps its first two corners so that all keep the strip's orientation. Triangles
-/// with a repeated index join strips and are dropped.
-fn push_strip(faces: &mut Vec<[u32; 3]>, strip: &[u32]) {
-    for (k, w) in strip.windows(3).enumerate() {
-        let t = if k % 2 == 0 {
-            [w[0], w[1], w[2]]
-        } else {
-            [w[1], w[0], w[2]]
-        };
-        if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
-            faces.push(t);
+/// Turns a triangle strip into triangles as its indices arrive: (s0 s1 s2), (s2 s1 s3),
+/// (s2 s3 s4), ... — every odd triangle swaps its first two corners so that all keep the
+/// strip's orientation. Triangles with a repeated index join strips and are dropped.
+#[derive(Debug, Default)]
+struct StripDecoder {
+    previous: [u32; 2],
+    length: usize,
+}
+
+impl StripDecoder {
+    #[inline]
+    fn push(&mut self, v: u32, faces: &mut Vec<[u32; 3]>) {
+        let [a, b] = self.previous;
+        if self.length >= 2 {
+            let t = if self.length % 2 == 0 {
+                [a, b, v]
+            } else {
+                [b, a, v]
+            };
+            if a != b && b != v && a != v {
+                faces.push(t);
+            }
         }
+        self.previous = [b, v];
+        self.length += 1;
+    }
+
+    fn restart(&mut self) {
+        self.length = 0;
     }
 }
 
@@ -1258,8 +1356,16 @@ mod tests {
     #[test]
     fn strip_winding_alternates() {
         let mut faces = Vec::new();
-        push_strip(&mut faces, &[0, 1, 2, 3, 4]);
+        let mut strip = StripDecoder::default();
+        for v in [0, 1, 2, 3, 4] {
+            strip.push(v, &mut faces);
+        }
         assert_eq!(faces, vec![[0, 1, 2], [2, 1, 3], [2, 3, 4]]);
+        strip.restart();
+        for v in [7, 8, 9] {
+            strip.push(v, &mut faces);
+        }
+        assert_eq!(faces[3], [7, 8, 9]);
     }
 
     #[test]
@@ -1454,7 +1560,7 @@ mod tests {
             error(&binary_triangle(nan, &[0, 1, 2])),
             format!(
                 "t.ply: byte {}: vertex 2 has a NaN or infinite y coordinate (NaN)",
-                h + 24 + 8
+                h + 24 + 4
             )
         );
         let mut inf = TRIANGLE;
@@ -1493,6 +1599,24 @@ mod tests {
             format!(
                 "t.ply: byte {}: truncated data: the file ends in extra 3 (of 10 extra elements)",
                 h + 24
+            )
+        );
+    }
+
+    #[test]
+    fn binary_skipped_element_after_others_truncated() {
+        let bytes = binary(
+            "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n\
+             property float y\nproperty float z\nelement extra 10\nproperty double w\n\
+             end_header\n",
+            |b| b.extend_from_slice(&[0u8; 12 + 30]),
+        );
+        let h = bytes.len() - 42;
+        assert_eq!(
+            error(&bytes),
+            format!(
+                "t.ply: byte {}: truncated data: the file ends in extra 3 (of 10 extra elements)",
+                h + 12 + 24
             )
         );
     }
@@ -1539,11 +1663,15 @@ mod tests {
             assert!(text.contains("comment curvature of a test\n"));
             assert!(text.contains("property double k_max\nproperty float quality\n"));
             let back = parse_bytes(&bytes).unwrap();
-            let positions: Vec<[f64; 3]> = mesh.positions().iter().map(|p| [p.x, p.y, p.z]).collect();
+            let positions: Vec<[f64; 3]> =
+                mesh.positions().iter().map(|p| [p.x, p.y, p.z]).collect();
             assert_eq!(back.positions, positions, "{encoding:?}");
             assert_eq!(back.faces, mesh.faces().to_vec(), "{encoding:?}");
             if encoding == PlyEncoding::Ascii {
-                assert!(text.contains("\n1 0 1e-300 0.3333333333333333 1e-30\n"), "{text}");
+                assert!(
+                    text.contains("\n1 0 1e-300 0.3333333333333333 1e-30\n"),
+                    "{text}"
+                );
             }
         }
     }
@@ -1560,8 +1688,16 @@ mod tests {
             "invalid input: PLY vertex property 'k' has 4 values for 5 vertices"
         );
         let ok = vec![1.0f64; 5];
-        assert!(PlyWriter::new(&mesh).property(VertexProperty::new("x", &ok)).is_err());
-        assert!(PlyWriter::new(&mesh).property(VertexProperty::new("a b", &ok)).is_err());
+        assert!(
+            PlyWriter::new(&mesh)
+                .property(VertexProperty::new("x", &ok))
+                .is_err()
+        );
+        assert!(
+            PlyWriter::new(&mesh)
+                .property(VertexProperty::new("a b", &ok))
+                .is_err()
+        );
         assert!(
             PlyWriter::new(&mesh)
                 .property(VertexProperty::new("k", &ok))

@@ -64,27 +64,29 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
                 ))
             }
         }
-        _ if starts_with_solid => parse_ascii(bytes, source).map_err(|e| match (e, expected_size) {
-            // A binary file whose header starts with "solid" but whose size is wrong lands
-            // here; say so, or the user only sees a baffling ascii error.
-            (
-                Error::Parse {
+        _ if starts_with_solid => {
+            parse_ascii(bytes, source).map_err(|e| match (e, expected_size) {
+                // A binary file whose header starts with "solid" but whose size is wrong lands
+                // here; say so, or the user only sees a baffling ascii error.
+                (
+                    Error::Parse {
+                        path,
+                        location,
+                        message,
+                    },
+                    Some(expected),
+                ) if looks_binary => Error::Parse {
                     path,
                     location,
-                    message,
-                },
-                Some(expected),
-            ) if looks_binary => Error::Parse {
-                path,
-                location,
-                message: format!(
-                    "{message} (if this is a binary STL, it is truncated or padded: its \
+                    message: format!(
+                        "{message} (if this is a binary STL, it is truncated or padded: its \
                      header declares {} triangles, {expected} bytes, and the file has {size})",
-                    declared.unwrap_or(0)
-                ),
-            },
-            (e, _) => e,
-        }),
+                        declared.unwrap_or(0)
+                    ),
+                },
+                (e, _) => e,
+            })
+        }
         _ => Err(source.at_byte(
             bytes.len(),
             format!(
@@ -162,10 +164,7 @@ fn parse_ascii(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
             if corners.len() < 3 {
                 return Err(source.at_line(
                     line,
-                    format!(
-                        "facet with {} vertices (at least 3 needed)",
-                        corners.len()
-                    ),
+                    format!("facet with {} vertices (at least 3 needed)", corners.len()),
                 ));
             }
             push_fan(&mut faces, &corners);
@@ -364,7 +363,10 @@ mod tests {
         let bytes = binary(b"solid", &SQUARE);
         let e = error(&bytes[..bytes.len() - 10]);
         assert!(e.starts_with("t.stl: line 1: unexpected"), "{e}");
-        assert!(e.contains("declares 2 triangles, 184 bytes, and the file has 174"), "{e}");
+        assert!(
+            e.contains("declares 2 triangles, 184 bytes, and the file has 174"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -109,6 +109,12 @@ impl<'a> Tokens<'a> {
     pub fn new(line: &'a [u8]) -> Self {
         Tokens { rest: line }
     }
+
+    /// The part of the line not yet split into tokens.
+    #[inline]
+    pub fn remainder(&self) -> &'a [u8] {
+        self.rest
+    }
 }
 
 impl<'a> Iterator for Tokens<'a> {
@@ -198,8 +204,8 @@ pub(crate) fn parse_f64(token: &[u8]) -> Option<f64> {
 
 /// Powers of ten that are exact in an `f64`.
 const EXACT_POWERS_OF_TEN: [f64; 23] = [
-    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-    1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
 ];
 
 /// Clinger's fast path (W. D. Clinger, "How to Read Floating Point Numbers Accurately",
@@ -209,15 +215,30 @@ const EXACT_POWERS_OF_TEN: [f64; 23] = [
 /// anything malformed) to the full parser.
 #[inline]
 fn parse_short_decimal(token: &[u8]) -> Option<f64> {
-    let (negative, bytes) = match token.first()? {
-        b'-' => (true, &token[1..]),
-        b'+' => (false, &token[1..]),
-        _ => (false, token),
+    match short_decimal_prefix(token) {
+        Some((x, used)) if used == token.len() => Some(x),
+        _ => None,
+    }
+}
+
+/// The number at the start of `text` by Clinger's fast path (see [`parse_short_decimal`]),
+/// and how many bytes it used; `None` when it does not start with such a number.
+#[inline]
+pub(crate) fn short_decimal_prefix(text: &[u8]) -> Option<(f64, usize)> {
+    let (negative, sign_bytes) = match text.first()? {
+        b'-' => (true, 1),
+        b'+' => (false, 1),
+        _ => (false, 0),
     };
+    let bytes = &text[sign_bytes..];
     let mut significand: u64 = 0;
     let mut digits = 0usize;
     let mut i = 0;
-    while let Some(d) = bytes.get(i).map(|b| b.wrapping_sub(b'0')).filter(|&d| d < 10) {
+    while let Some(d) = bytes
+        .get(i)
+        .map(|b| b.wrapping_sub(b'0'))
+        .filter(|&d| d < 10)
+    {
         significand = significand.wrapping_mul(10).wrapping_add(u64::from(d));
         i += 1;
     }
@@ -226,7 +247,11 @@ fn parse_short_decimal(token: &[u8]) -> Option<f64> {
     let mut fraction_digits = 0usize;
     if bytes.get(i) == Some(&b'.') {
         i += 1;
-        while let Some(d) = bytes.get(i).map(|b| b.wrapping_sub(b'0')).filter(|&d| d < 10) {
+        while let Some(d) = bytes
+            .get(i)
+            .map(|b| b.wrapping_sub(b'0'))
+            .filter(|&d| d < 10)
+        {
             significand = significand.wrapping_mul(10).wrapping_add(u64::from(d));
             i += 1;
             fraction_digits += 1;
@@ -247,7 +272,11 @@ fn parse_short_decimal(token: &[u8]) -> Option<f64> {
         };
         i = start;
         let mut value: i64 = 0;
-        while let Some(d) = bytes.get(i).map(|b| b.wrapping_sub(b'0')).filter(|&d| d < 10) {
+        while let Some(d) = bytes
+            .get(i)
+            .map(|b| b.wrapping_sub(b'0'))
+            .filter(|&d| d < 10)
+        {
             // Anything past 4 digits is far outside the fast range; cap to avoid overflow.
             value = (value * 10 + i64::from(d)).min(100_000);
             i += 1;
@@ -257,9 +286,6 @@ fn parse_short_decimal(token: &[u8]) -> Option<f64> {
         }
         exponent += if exponent_negative { -value } else { value };
     }
-    if i != bytes.len() {
-        return None;
-    }
     let m = significand as f64;
     let magnitude = match exponent {
         0 => m,
@@ -267,7 +293,10 @@ fn parse_short_decimal(token: &[u8]) -> Option<f64> {
         -22..=-1 => m / EXACT_POWERS_OF_TEN[(-exponent) as usize],
         _ => return None,
     };
-    Some(if negative { -magnitude } else { magnitude })
+    Some((
+        if negative { -magnitude } else { magnitude },
+        sign_bytes + i,
+    ))
 }
 
 /// Parses a decimal integer with an optional sign.
@@ -312,11 +341,7 @@ pub(crate) fn coordinate(token: Option<&[u8]>, what: impl Fn() -> String) -> Res
     };
     match parse_f64(token) {
         Some(x) if x.is_finite() => Ok(x),
-        Some(_) => Err(format!(
-            "{} is NaN or infinite ('{}')",
-            what(),
-            show(token)
-        )),
+        Some(_) => Err(format!("{} is NaN or infinite ('{}')", what(), show(token))),
         None => Err(format!(
             "non-numeric token '{}' where the {} was expected",
             show(token),
@@ -346,7 +371,12 @@ mod tests {
         let lines: Vec<_> = Lines::new(b"a\r\nb\n\nc").collect();
         assert_eq!(
             lines,
-            vec![(1, &b"a\r"[..]), (2, &b"b"[..]), (3, &b""[..]), (4, &b"c"[..])]
+            vec![
+                (1, &b"a\r"[..]),
+                (2, &b"b"[..]),
+                (3, &b""[..]),
+                (4, &b"c"[..])
+            ]
         );
     }
 
@@ -381,11 +411,42 @@ mod tests {
     #[test]
     fn fast_float_path_matches_the_standard_parser() {
         let cases = [
-            "0", "-0", "+1", "1.", ".5", "-.5", "0.1", "123.456", "-0.0378297", "1e5", "1E-5",
-            "2.5e+3", "9007199254740993", "9007199254740992", "0.30000000000000004",
-            "1234567890123456789", "12345678901234567890", "1e22", "1e23", "1e-22", "1e-23",
-            "4.9e-324", "1.7976931348623157e308", "00000000000000000001.5", "1e", "e5", ".",
-            "-", "1.2.3", "1e+", "inf", "-infinity", "NaN", "1_0", "0x10", "",
+            "0",
+            "-0",
+            "+1",
+            "1.",
+            ".5",
+            "-.5",
+            "0.1",
+            "123.456",
+            "-0.0378297",
+            "1e5",
+            "1E-5",
+            "2.5e+3",
+            "9007199254740993",
+            "9007199254740992",
+            "0.30000000000000004",
+            "1234567890123456789",
+            "12345678901234567890",
+            "1e22",
+            "1e23",
+            "1e-22",
+            "1e-23",
+            "4.9e-324",
+            "1.7976931348623157e308",
+            "00000000000000000001.5",
+            "1e",
+            "e5",
+            ".",
+            "-",
+            "1.2.3",
+            "1e+",
+            "inf",
+            "-infinity",
+            "NaN",
+            "1_0",
+            "0x10",
+            "",
         ];
         for c in cases {
             let ours = parse_f64(c.as_bytes());
@@ -421,9 +482,21 @@ mod tests {
     fn coordinates_reject_nan_and_words() {
         let what = || "x".to_string();
         assert_eq!(coordinate(Some(b"1e-3"), what), Ok(1e-3));
-        assert!(coordinate(Some(b"nan"), what).unwrap_err().contains("NaN or infinite"));
-        assert!(coordinate(Some(b"1e999"), what).unwrap_err().contains("NaN or infinite"));
-        assert!(coordinate(Some(b"abc"), what).unwrap_err().contains("non-numeric token 'abc'"));
+        assert!(
+            coordinate(Some(b"nan"), what)
+                .unwrap_err()
+                .contains("NaN or infinite")
+        );
+        assert!(
+            coordinate(Some(b"1e999"), what)
+                .unwrap_err()
+                .contains("NaN or infinite")
+        );
+        assert!(
+            coordinate(Some(b"abc"), what)
+                .unwrap_err()
+                .contains("non-numeric token 'abc'")
+        );
         assert!(coordinate(None, what).unwrap_err().contains("missing x"));
     }
 }

@@ -71,7 +71,13 @@ pub fn chain_links(num_nodes: usize, links: &[(usize, usize)]) -> Vec<(Vec<usize
         cursor[b] += 1;
     }
     let degree = |n: usize| offsets[n + 1] - offsets[n];
-    let other = |l: usize, n: usize| if links[l].0 == n { links[l].1 } else { links[l].0 };
+    let other = |l: usize, n: usize| {
+        if links[l].0 == n {
+            links[l].1
+        } else {
+            links[l].0
+        }
+    };
 
     let mut used = vec![false; links.len()];
     let walk = |start: usize, first: usize, used: &mut Vec<bool>| -> (Vec<usize>, bool) {

@@ -61,9 +61,15 @@ pub fn link_feature_points(
     let topo = mesh.topology();
     let n = mesh.num_vertices();
     let referenced = |v: usize| !topo.vertex_faces(v as u32).is_empty();
-    let mut feature: Vec<bool> = (0..n).map(|v| referenced(v) && saliency[v] > threshold).collect();
+    let mut feature: Vec<bool> = (0..n)
+        .map(|v| referenced(v) && saliency[v] > threshold)
+        .collect();
     let weak: Vec<bool> = (0..n)
-        .map(|v| referenced(v) && saliency[v] > options.weak_fraction * threshold && saliency[v] <= threshold)
+        .map(|v| {
+            referenced(v)
+                && saliency[v] > options.weak_fraction * threshold
+                && saliency[v] <= threshold
+        })
         .collect();
     let kind: Vec<LineKind> = (0..n).map(|v| point_kind(curvature, v)).collect();
     let along = |v: usize| match kind[v] {
@@ -139,7 +145,10 @@ pub fn link_feature_points(
             let mut line = FeatureLine {
                 kind: line_kind,
                 points: path.iter().map(|&v| mesh.positions()[v]).collect(),
-                locations: path.iter().map(|&v| SurfacePoint::Vertex(v as u32)).collect(),
+                locations: path
+                    .iter()
+                    .map(|&v| SurfacePoint::Vertex(v as u32))
+                    .collect(),
                 closed,
                 length: 0.0,
                 curvature_integral: 0.0,
@@ -182,7 +191,16 @@ mod tests {
             }
         }
         let lines = link_feature_points(&mesh, &c, &saliency, 1.0, &LinkOptions::default());
-        assert_eq!(lines.lines.len(), 1, "{:?}", lines.lines.iter().map(|l| l.points.len()).collect::<Vec<_>>());
+        assert_eq!(
+            lines.lines.len(),
+            1,
+            "{:?}",
+            lines
+                .lines
+                .iter()
+                .map(|l| l.points.len())
+                .collect::<Vec<_>>()
+        );
         let line = &lines.lines[0];
         assert_eq!(line.kind, LineKind::Ridge);
         assert_eq!(line.points.len(), 21);

@@ -81,50 +81,43 @@ impl Topology {
                 .flat_map(|(f, t)| t.map(|v| (v, f as u32))),
         );
 
-        // Each edge is owned by its smaller endpoint; every vertex lists the (larger neighbour,
-        // face, slot) triples of the edges it owns. Slot s of a face is the edge from corner s
-        // to corner s + 1.
-        let owned: Vec<Vec<(u32, u32, u8)>> = (0..num_vertices)
-            .into_par_iter()
-            .map(|v| {
-                let lo = vertex_face_offsets[v] as usize;
-                let hi = vertex_face_offsets[v + 1] as usize;
-                let mut list = Vec::new();
-                for &f in &vertex_faces[lo..hi] {
-                    let t = faces[f as usize];
-                    for s in 0..3 {
-                        let (a, b) = (t[s], t[(s + 1) % 3]);
-                        let (small, large) = if a < b { (a, b) } else { (b, a) };
-                        if small as usize == v {
-                            list.push((large, f, s as u8));
-                        }
-                    }
-                }
-                list.sort_unstable();
-                list
+        // Every half-edge as (smaller endpoint, larger endpoint) packed in a u64 key with its
+        // face and slot (slot s of a face is the edge from corner s to corner s + 1); one sort
+        // groups the faces of each undirected edge. Edge ids follow the key order, so they are
+        // deterministic.
+        let mut half_edges: Vec<(u64, u32)> = faces
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(f, t)| {
+                (0..3).map(move |s| {
+                    let (a, b) = (t[s], t[(s + 1) % 3]);
+                    let key = ((a.min(b) as u64) << 32) | a.max(b) as u64;
+                    (key, ((f as u32) << 2) | s as u32)
+                })
             })
             .collect();
+        half_edges.par_sort_unstable();
 
-        let mut edges = Vec::new();
-        let mut edge_face_offsets = vec![0u32];
-        let mut edge_faces = Vec::with_capacity(faces.len() * 3);
+        let mut edges = Vec::with_capacity(half_edges.len() / 2 + 1);
+        let mut edge_face_offsets = Vec::with_capacity(half_edges.len() / 2 + 2);
+        edge_face_offsets.push(0u32);
+        let mut edge_faces = Vec::with_capacity(half_edges.len());
         let mut face_edges = vec![[NONE; 3]; faces.len()];
-        for (v, list) in owned.iter().enumerate() {
-            let mut i = 0;
-            while i < list.len() {
-                let u = list[i].0;
-                let e = edges.len() as u32;
-                edges.push([v as u32, u]);
-                while i < list.len() && list[i].0 == u {
-                    let (_, f, s) = list[i];
-                    edge_faces.push(f);
-                    face_edges[f as usize][s as usize] = e;
-                    i += 1;
-                }
-                edge_face_offsets.push(edge_faces.len() as u32);
+        let mut i = 0;
+        while i < half_edges.len() {
+            let key = half_edges[i].0;
+            let e = edges.len() as u32;
+            edges.push([(key >> 32) as u32, key as u32]);
+            while i < half_edges.len() && half_edges[i].0 == key {
+                let packed = half_edges[i].1;
+                let (f, s) = (packed >> 2, (packed & 3) as usize);
+                edge_faces.push(f);
+                face_edges[f as usize][s] = e;
+                i += 1;
             }
+            edge_face_offsets.push(edge_faces.len() as u32);
         }
-        drop(owned);
+        drop(half_edges);
 
         let (vertex_edge_offsets, vertex_edges) = compressed_rows(
             num_vertices,
@@ -147,7 +140,7 @@ impl Topology {
         };
         topology.vertex_kinds = (0..num_vertices as u32)
             .into_par_iter()
-            .map_init(Vec::new, |fans, v| topology.classify_vertex(v, faces, fans))
+            .map(|v| topology.classify_vertex(v, faces))
             .collect();
         topology
     }
@@ -364,10 +357,11 @@ impl Topology {
         fallback
     }
 
-    fn classify_vertex(&self, v: u32, faces: &[[u32; 3]], fans: &mut Vec<Fan>) -> VertexKind {
-        if self.vertex_faces(v).is_empty() {
+    fn classify_vertex(&self, v: u32, faces: &[[u32; 3]]) -> VertexKind {
+        let incident = self.vertex_faces(v);
+        let Some(&f0) = incident.first() else {
             return VertexKind::Unreferenced;
-        }
+        };
         if self
             .vertex_edges(v)
             .iter()
@@ -375,12 +369,66 @@ impl Topology {
         {
             return VertexKind::NonManifold;
         }
-        self.walk_fans(v, faces, fans);
-        match fans.as_slice() {
-            [fan] if fan.closed => VertexKind::Interior,
-            [_] => VertexKind::Boundary,
-            _ => VertexKind::NonManifold,
+        // With every edge on at most two faces, walking across the edges at `v` is a simple
+        // path or cycle: it either comes back to `f0` (closed fan) or stops at boundary edges
+        // on both sides. One fan holds every incident face exactly when the vertex is manifold.
+        let [e_ahead, e_behind] = self.edges_at(v, f0, faces);
+        let (ahead, closed) = self.walk_count(v, f0, e_ahead, faces, incident.len());
+        if closed {
+            return if ahead == incident.len() {
+                VertexKind::Interior
+            } else {
+                VertexKind::NonManifold
+            };
         }
+        let (behind, _) = self.walk_count(v, f0, e_behind, faces, incident.len());
+        if ahead + behind - 1 == incident.len() {
+            VertexKind::Boundary
+        } else {
+            VertexKind::NonManifold
+        }
+    }
+
+    /// The two edges of face `f` that contain `v`.
+    fn edges_at(&self, v: u32, f: u32, faces: &[[u32; 3]]) -> [u32; 2] {
+        let t = faces[f as usize];
+        let c = t.iter().position(|&x| x == v).unwrap_or(0);
+        let fe = self.face_edges[f as usize];
+        [fe[c], fe[(c + 2) % 3]]
+    }
+
+    /// Walks from `f0` across `first` and on around `v` (manifold edges only); returns the
+    /// number of faces seen (with `f0`) and whether the walk came back to `f0`.
+    fn walk_count(
+        &self,
+        v: u32,
+        f0: u32,
+        first: u32,
+        faces: &[[u32; 3]],
+        limit: usize,
+    ) -> (usize, bool) {
+        let (mut f, mut e) = (f0, first);
+        let mut count = 1;
+        while count <= limit {
+            let g = match *self.edge_faces(e) {
+                [a, b] => {
+                    if a == f {
+                        b
+                    } else {
+                        a
+                    }
+                }
+                _ => return (count, false),
+            };
+            if g == f0 {
+                return (count, true);
+            }
+            count += 1;
+            let [x, y] = self.edges_at(v, g, faces);
+            e = if x == e { y } else { x };
+            f = g;
+        }
+        (count, false)
     }
 
     /// Connected components over faces sharing a vertex: a component id per vertex
