@@ -20,12 +20,18 @@ struct Cli {
 enum Command {
     /// Print counts and health figures of a mesh.
     Info(cmd::info::Args),
+    /// Geodesic distance to the nearest feature line, as a PLY vertex property.
+    Distance(cmd::distance::Args),
+    /// Simplify a mesh, keeping detail near the feature lines (YBS 2005, eq. 7).
+    Simplify(cmd::simplify::Args),
 }
 
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Info(args) => cmd::info::run(args),
+        Command::Distance(args) => cmd::distance::run(args),
+        Command::Simplify(args) => cmd::simplify::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

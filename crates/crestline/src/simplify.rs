@@ -28,24 +28,32 @@
 //!   best of the two end points and the midpoint. Boundary vertices never leave their place:
 //!   an edge with one boundary end point collapses onto that end point, and an edge between
 //!   two boundary vertices must be a boundary edge and collapses onto one of its end points.
-//!   Every boundary vertex of the result is therefore a boundary vertex of the input.
-//! - **Order.** A binary heap of candidate collapses keyed by cost, with lazy deletion: each
-//!   entry carries version stamps of its two end points, and a collapse bumps the stamp of the
-//!   vertex it keeps, so stale entries are skipped when popped. When the heap runs dry before
-//!   the target (all remaining candidates were refused), another pass re-evaluates every
-//!   remaining edge; passes stop when one makes no collapse.
+//!   Every boundary vertex of the result is therefore a boundary vertex of the input, at
+//!   exactly its input position.
+//! - **Order.** A heap of candidate collapses keyed by cost, with lazy deletion: each entry
+//!   carries the version stamps of its two end points, and a collapse bumps the stamp of the
+//!   vertex it keeps (and queues that vertex's edges anew), so stale entries are skipped when
+//!   popped. About nine in ten popped entries are stale, so the queue is built for few cache
+//!   misses: 16-byte entries (costs as `f32`, computed in `f64` in coordinates
+//!   normalised to a unit bounding-box diagonal), a four-ary heap holding only the cheapest
+//!   candidates, and an unordered overflow purged of stale entries whenever the heap is
+//!   refilled from it (`CandidateQueue`). When the queue runs dry before the target (all
+//!   remaining candidates were refused), another pass re-evaluates every remaining edge;
+//!   passes stop when one makes no collapse.
 //! - **Validity.** A collapse of edge `u v` is refused when it would break the link condition
 //!   (the common neighbours of `u` and `v` must be exactly the apexes of the triangles on
-//!   `u v`, plus the checks that keep a tetrahedron and a lone triangle from folding flat), so
-//!   manifold neighbourhoods stay manifold and the topology (components, genus, boundary
-//!   loops) is kept; when a moved triangle's normal would turn by more than
-//!   `max_normal_rotation` (flips) or its area would vanish; and when either end point is a
-//!   non-manifold vertex of the input (those are left alone).
+//!   `u v`, where a boundary counts as joined to one extra vertex; plus the checks that keep a
+//!   tetrahedron and a lone triangle from folding flat), so manifold neighbourhoods stay
+//!   manifold and the topology (components, Euler characteristic, boundary loops) is kept;
+//!   when a moved triangle's normal would turn by more than `max_normal_rotation` (flips) or
+//!   its area would vanish; and when either end point is a non-manifold vertex of the input
+//!   (those, and so the non-manifold edges between them, are left alone).
 //! - **Connectivity.** The [`TriMesh`] is immutable, so the collapses run on a light mutable
 //!   copy (triangle list with alive flags, per-vertex triangle lists); the survivors are then
 //!   compacted into a new [`TriMesh`].
 //!
-//! Cost: O(E log E) for the heap, with constant work per collapse on meshes of bounded degree.
+//! Cost: O(E log E) for the queue, with constant work per collapse on meshes of bounded
+//! degree. About 1 s for 270K triangles to 10 % on one core (`BENCHMARKS.md`).
 //!
 //! ## Known limits
 //! - The requested face count is met to within one face: interior collapses remove two
@@ -54,6 +62,13 @@
 //! - Unreferenced input vertices are dropped from the result.
 //! - Quadrics measure distance to the planes of the original triangles, not to the surface;
 //!   like all QEM variants this is an estimate of the Hausdorff error, not a bound.
+//! - The normal check compares each moved triangle with its current normal, not its
+//!   original one, so rotations can add up over many collapses (in practice only on
+//!   coarse results of small or non-manifold meshes, with sheets close together).
+//! - Non-manifold vertices stay, with every edge at them, which can stop a mesh with many
+//!   of them short of the target.
+//! - A candidate refused for a flip is not retried with another placement; it comes back
+//!   only when a neighbouring collapse re-queues it.
 
 use rayon::prelude::*;
 
@@ -199,8 +214,8 @@ pub struct Simplified {
     pub faces_after: usize,
     /// The triangle count that was asked for.
     pub target_faces: usize,
-    /// True when `faces_after <= target_faces + 1`... that is, the target was met (see the
-    /// module docs on the one-face tolerance).
+    /// True when `faces_after <= target_faces`: the target was met (the result then has
+    /// `target_faces` or `target_faces - 1` triangles, see the module docs).
     pub target_reached: bool,
     /// Edge collapses performed.
     pub collapses: usize,
@@ -441,6 +456,9 @@ struct Plan {
     source: u32,
 }
 
+/// The version of a vertex merged away.
+const REMOVED: u32 = u32::MAX;
+
 /// Marks a position computed by the decimation rather than taken from an input vertex.
 const NEW_POSITION: u32 = u32::MAX;
 
@@ -573,7 +591,8 @@ struct Decimator<'m> {
     quadrics: Vec<Quadric>,
     boundary: Vec<bool>,
     locked: Vec<bool>,
-    removed: Vec<bool>,
+    /// Version stamp per vertex, bumped by every collapse that keeps the vertex;
+    /// [`REMOVED`] once it is merged away (one array, so a liveness check reads two words).
     version: Vec<u32>,
     live_faces: usize,
     min_cos: f64,
@@ -643,11 +662,17 @@ impl<'m> Decimator<'m> {
                 .iter()
                 .map(|&k| k == VertexKind::NonManifold)
                 .collect(),
-            removed: kinds
+            // Unreferenced vertices take part in nothing.
+            version: kinds
                 .iter()
-                .map(|&k| k == VertexKind::Unreferenced)
+                .map(|&k| {
+                    if k == VertexKind::Unreferenced {
+                        REMOVED
+                    } else {
+                        0
+                    }
+                })
                 .collect(),
-            version: vec![0; n],
             min_cos: options.max_normal_rotation.to_radians().cos(),
             collapses: 0,
             rejected: Rejections::default(),
@@ -693,7 +718,7 @@ impl<'m> Decimator<'m> {
         let this = &*self;
         let planned: Vec<Result<Entry, Refusal>> = (0..this.positions.len() as u32)
             .into_par_iter()
-            .filter(|&u| !this.removed[u as usize])
+            .filter(|&u| this.version[u as usize] != REMOVED)
             .flat_map_iter(|u| {
                 let mut ring = Vec::new();
                 this.collect_ring(u, &mut ring);
@@ -723,9 +748,8 @@ impl<'m> Decimator<'m> {
 
     /// False for entries made stale by a collapse since they were queued.
     fn is_live(&self, e: &Entry) -> bool {
-        !self.removed[e.u as usize]
-            && !self.removed[e.v as usize]
-            && self.stamp(e.u, e.v) == e.stamp
+        let (vu, vv) = (self.version[e.u as usize], self.version[e.v as usize]);
+        vu != REMOVED && vv != REMOVED && vu.wrapping_add(vv) == e.stamp
     }
 
     fn stamp(&self, u: u32, v: u32) -> u32 {
@@ -917,8 +941,9 @@ impl<'m> Decimator<'m> {
         let qr = self.quadrics[r];
         self.quadrics[k].add(&qr);
         self.boundary[k] |= self.boundary[r];
-        self.removed[r] = true;
-        self.version[k] = self.version[k].wrapping_add(1);
+        self.version[r] = REMOVED;
+        // Skipping the sentinel keeps a live vertex from ever looking removed.
+        self.version[k] = (self.version[k] + 1) % REMOVED;
         let moved = std::mem::take(&mut self.vertex_faces[r]);
         for f in moved {
             if !self.face_alive[f as usize] {

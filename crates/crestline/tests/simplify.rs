@@ -1,10 +1,11 @@
 //! Properties of crest-line-guided simplification on generated shapes with known creases.
 
-use crestline::distance::{DistanceOptions, FaceGrid, feature_distance};
+use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::lines::FeatureLines;
 use crestline::mesh::{VertexKind, face_normals};
 use crestline::shapes;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
+use crestline::spatial::FaceGrid;
 use crestline::{TriMesh, Vec3};
 
 /// Points spread over each triangle of `mesh` accepted by `keep` (6 per triangle: the
@@ -159,8 +160,11 @@ fn crest_lines_keep_detail_near_them() {
         );
         errors.push((r.faces_after, near_mean, near_max));
     }
-    // Measured: mean 1.07e-3 (eta 0), 8.9e-4 (eta 1), 6.9e-4 (eta 2); the mean falls
-    // steadily with eta, the largest error only clearly at eta 2.
+    // Measured (690 triangles each), near the creases: mean 1.09e-3 / max 8.3e-3 (eta 0),
+    // 9.0e-4 / 5.1e-3 (eta 1), 6.6e-4 / 4.2e-3 (eta 2); far from them the mean grows from
+    // 1.5e-3 to 2.0e-3 and 2.1e-3. The near mean falls steadily with eta; the near maximum
+    // depends on tie-breaking at eta 1 (it was above eta 0's in an earlier variant), so it is
+    // only checked at eta 2.
     let (faces0, mean0, max0) = errors[0];
     assert!(errors.iter().all(|e| e.0.abs_diff(faces0) <= 1));
     assert!(

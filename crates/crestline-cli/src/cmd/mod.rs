@@ -1,3 +1,5 @@
 //! One module per subcommand.
 
+pub mod distance;
 pub mod info;
+pub mod simplify;
