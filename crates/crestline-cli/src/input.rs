@@ -1,11 +1,13 @@
-//! Loading the input mesh: a file given by the user, or the built-in example.
+//! Loading the inputs: the mesh (a file given by the user, or the built-in example) and the
+//! feature lines that guide `distance` and `simplify`.
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use crestline::TriMesh;
 use crestline::io::Format;
+use crestline::lines::FeatureLines;
 
 /// The built-in example: the fandisk CAD part (see `crates/crestline/fixtures/README.md`).
 const BUILT_IN_EXAMPLE: &[u8] = include_bytes!("../../crestline/fixtures/fandisk.obj");
@@ -52,5 +54,22 @@ pub fn load_mesh(path: Option<&PathBuf>, format: Option<FormatArg>) -> Result<(T
                 crestline::io::read_mesh_bytes(BUILT_IN_EXAMPLE, Format::Obj, Path::new(name))?;
             Ok((mesh, name.into()))
         }
+    }
+}
+
+/// The feature lines that guide `distance` and `simplify`: read from `path` (an OBJ with `l`
+/// polylines, as `crestline` writes them) when given.
+///
+/// PENDING(extract): without `--lines`, the lines should be extracted from the mesh with the
+/// default method, but the library has no one-call extraction (`extract(&mesh, &Options)`)
+/// yet; until it lands this asks for `--lines` instead.
+pub fn load_lines(path: Option<&PathBuf>) -> Result<FeatureLines> {
+    match path {
+        // Reading errors already name the file and line.
+        Some(p) => Ok(crestline::io::lines::read_lines_obj(p).context("cannot load the lines")?),
+        None => bail!(
+            "no --lines given, and extracting lines from the mesh is not available in this build \
+             yet: pass the lines as an OBJ file with --lines (or use --eta 0 with simplify)"
+        ),
     }
 }

@@ -29,6 +29,10 @@ enum Command {
     Render(cmd::render::Args),
     /// Write a self-contained HTML viewer (WebGL) of a mesh, its lines and a field.
     View(cmd::view::Args),
+    /// Geodesic distance to the nearest feature line, as a PLY vertex property.
+    Distance(cmd::distance::Args),
+    /// Simplify a mesh, keeping detail near the feature lines (YBS 2005, eq. 7).
+    Simplify(cmd::simplify::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -39,6 +43,8 @@ fn main() -> std::process::ExitCode {
         Command::Info(args) => cmd::info::run(args),
         Command::Render(args) => cmd::render::run(args),
         Command::View(args) => cmd::view::run(args),
+        Command::Distance(args) => cmd::distance::run(args),
+        Command::Simplify(args) => cmd::simplify::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -20,6 +20,7 @@
 //! Valleys: `e_min = 0`, `de_min/dt_min > 0`, `k_min < -|k_max|`.
 
 pub mod curvature;
+pub mod distance;
 pub mod error;
 pub mod extract;
 pub mod extremality;
@@ -30,6 +31,7 @@ pub mod mesh;
 pub mod render;
 pub mod saliency;
 pub mod shapes;
+pub mod simplify;
 pub mod smoothing;
 pub mod spatial;
 pub mod threshold;

@@ -3,11 +3,13 @@
 //!
 //! Every closed shape is wound counter-clockwise seen from outside, so face and vertex
 //! normals point outward. Vertices lie exactly on the analytic surface.
+//! [`pillow_box`] also returns its exact crease lines, for the simplification tests.
 
 pub mod exact;
 
 use std::f64::consts::{PI, TAU};
 
+use crate::lines::{FeatureLine, FeatureLines, LineKind, SurfacePoint};
 use crate::mesh::{TriMesh, Vec3};
 
 fn build(positions: Vec<Vec3>, faces: Vec<[u32; 3]>) -> TriMesh {
@@ -347,6 +349,90 @@ fn revolve(rows: usize, n: usize, profile: impl Fn(usize) -> (f64, f64)) -> TriM
     build(positions, faces)
 }
 
+/// A "pillow box": the cube [-half, half]³ whose six faces bulge outward by
+/// `bulge · half · (1 - s²)(1 - t²)` (`s`, `t` in [-1, 1] across the face), on an `n` × `n`
+/// grid per face (12 n² triangles).
+///
+/// The faces are curved and meet at the cube's 12 edges in sharp creases, which are returned
+/// as exact polylines: ridges through the `n + 1` mesh vertices along each edge, with their
+/// vertex locations. Vertices on the creases are shared by the two faces, so the mesh is
+/// closed.
+pub fn pillow_box(half: f64, bulge: f64, n: usize) -> (TriMesh, FeatureLines) {
+    let n = n.max(1);
+    // Vertices live on the integer lattice of the cube's surface, coordinates 0..=n.
+    let mut ids: std::collections::HashMap<[usize; 3], u32> = std::collections::HashMap::new();
+    let mut positions = Vec::new();
+    let mut id = |l: [usize; 3], positions: &mut Vec<Vec3>| -> u32 {
+        *ids.entry(l).or_insert_with(|| {
+            let c = l.map(|i| 2.0 * i as f64 / n as f64 - 1.0);
+            let on_face: Vec<usize> = (0..3).filter(|&k| l[k] == 0 || l[k] == n).collect();
+            let mut p = Vec3::new(c[0], c[1], c[2]) * half;
+            if let [k] = on_face[..] {
+                let (s, t) = (c[(k + 1) % 3], c[(k + 2) % 3]);
+                p[k] += c[k] * bulge * half * (1.0 - s * s) * (1.0 - t * t);
+            }
+            positions.push(p);
+            (positions.len() - 1) as u32
+        })
+    };
+    let mut faces = Vec::with_capacity(12 * n * n);
+    for axis in 0..3 {
+        for side in [0, n] {
+            // (u, v) span the face so that u × v points outward.
+            let (ua, va) = if side == n {
+                ((axis + 1) % 3, (axis + 2) % 3)
+            } else {
+                ((axis + 2) % 3, (axis + 1) % 3)
+            };
+            let lattice = |i: usize, j: usize| {
+                let mut l = [0; 3];
+                l[axis] = side;
+                l[ua] = i;
+                l[va] = j;
+                l
+            };
+            for j in 0..n {
+                for i in 0..n {
+                    let a = id(lattice(i, j), &mut positions);
+                    let b = id(lattice(i + 1, j), &mut positions);
+                    let c = id(lattice(i + 1, j + 1), &mut positions);
+                    let d = id(lattice(i, j + 1), &mut positions);
+                    if (i + j) % 2 == 0 {
+                        faces.extend([[a, b, c], [a, c, d]]);
+                    } else {
+                        faces.extend([[a, b, d], [b, c, d]]);
+                    }
+                }
+            }
+        }
+    }
+    let mut lines = Vec::with_capacity(12);
+    for axis in 0..3 {
+        for (x, y) in [(0, 0), (n, 0), (0, n), (n, n)] {
+            let vertices: Vec<u32> = (0..=n)
+                .map(|i| {
+                    let mut l = [0; 3];
+                    l[axis] = i;
+                    l[(axis + 1) % 3] = x;
+                    l[(axis + 2) % 3] = y;
+                    id(l, &mut positions)
+                })
+                .collect();
+            let points: Vec<Vec3> = vertices.iter().map(|&v| positions[v as usize]).collect();
+            lines.push(FeatureLine {
+                kind: LineKind::Ridge,
+                locations: vertices.into_iter().map(SurfacePoint::Vertex).collect(),
+                closed: false,
+                length: 2.0 * half,
+                curvature_integral: 0.0,
+                strength: 0.0,
+                points,
+            });
+        }
+    }
+    (build(positions, faces), FeatureLines { lines })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -375,6 +461,31 @@ mod tests {
         assert!(outward(&icosphere(1.0, 1), Vec3::zeros()));
         assert!(outward(&ellipsoid(3.0, 2.0, 1.0, 1), Vec3::zeros()));
         assert!(outward(&capsule(1.0, 2.0, 12), Vec3::zeros()));
+    }
+
+    #[test]
+    fn pillow_box_is_closed_with_creases_on_its_vertices() {
+        let (m, lines) = pillow_box(1.0, 0.2, 6);
+        let info = m.info();
+        assert!(info.closed, "{info}");
+        assert_eq!(info.euler_characteristic, 2);
+        assert_eq!(info.faces, 12 * 36);
+        assert!(outward(&m, Vec3::zeros()));
+        assert_eq!(lines.lines.len(), 12);
+        for line in &lines.lines {
+            assert_eq!(line.points.len(), 7);
+            for (p, loc) in line.points.iter().zip(&line.locations) {
+                let SurfacePoint::Vertex(v) = *loc else {
+                    panic!("{loc:?}")
+                };
+                assert_eq!(m.position(v), *p);
+                // On a cube edge: two coordinates at ±1.
+                assert!(p.iter().filter(|c| c.abs() == 1.0).count() >= 2);
+            }
+        }
+        // The middle of a face bulges out by `bulge`.
+        let top = m.positions().iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        assert!((top - 1.2).abs() < 1e-12);
     }
 
     #[test]

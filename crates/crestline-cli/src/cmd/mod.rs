@@ -1,7 +1,9 @@
 //! One module per subcommand.
 
 pub mod curvature;
+pub mod distance;
 pub mod extract;
 pub mod info;
 pub mod render;
+pub mod simplify;
 pub mod view;

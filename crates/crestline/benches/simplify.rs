@@ -1,0 +1,58 @@
+//! Crest-line-guided simplification of ~270K-triangle meshes to 10 %.
+//!
+//! - `pillow_box_270k`: the generated pillow box (`shapes::pillow_box(1, 0.25, 150)`,
+//!   270,000 triangles) with its 12 exact crease lines; the feature distance alone, the whole
+//!   of `simplify` with eta = 1, and plain QEM (eta = 0).
+//! - `igea`: `../shared/data/meshes/igea.ply` with plain QEM; skipped (with a note) when the
+//!   file cannot be read.
+//!
+//! Run: `cargo bench -p crestline --bench simplify`. Figures go to `BENCHMARKS.md`.
+
+use std::hint::black_box;
+use std::path::Path;
+
+use crestline::distance::{DistanceOptions, feature_distance};
+use crestline::lines::FeatureLines;
+use crestline::shapes;
+use crestline::simplify::{SimplifyOptions, Target, simplify};
+use criterion::{Criterion, criterion_group, criterion_main};
+
+fn pillow_box(c: &mut Criterion) {
+    let (mesh, lines) = shapes::pillow_box(1.0, 0.25, 150);
+    let to_tenth = SimplifyOptions::default().with_target(Target::Ratio(0.1));
+    let mut group = c.benchmark_group("pillow_box_270k");
+    group.sample_size(10);
+    group.bench_function("feature_distance", |b| {
+        b.iter(|| feature_distance(black_box(&mesh), &lines, &DistanceOptions::default()))
+    });
+    group.bench_function("simplify_eta1_to_10pct", |b| {
+        b.iter(|| simplify(black_box(&mesh), &lines, &to_tenth))
+    });
+    group.bench_function("simplify_eta0_to_10pct", |b| {
+        b.iter(|| simplify(black_box(&mesh), &lines, &to_tenth.with_eta(0.0)))
+    });
+    group.finish();
+}
+
+fn igea(c: &mut Criterion) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/igea.ply");
+    let mesh = match crestline::io::read_mesh(&path, None) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("igea skipped: {e}");
+            return;
+        }
+    };
+    let to_tenth = SimplifyOptions::default()
+        .with_target(Target::Ratio(0.1))
+        .with_eta(0.0);
+    let mut group = c.benchmark_group("igea");
+    group.sample_size(10);
+    group.bench_function("simplify_eta0_to_10pct", |b| {
+        b.iter(|| simplify(black_box(&mesh), &FeatureLines::default(), &to_tenth))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, pillow_box, igea);
+criterion_main!(benches);
