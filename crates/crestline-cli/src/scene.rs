@@ -7,7 +7,7 @@ use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use crestline::TriMesh;
 use crestline::curvature::{CurvatureOptions, estimate};
-use crestline::feature_distance::{FeatureDistanceOptions, feature_distance};
+use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::io::lines::read_lines_obj;
 use crestline::lines::FeatureLines;
 use crestline::render::{ColorMapChoice, RenderOptions, UpAxis};
@@ -177,7 +177,7 @@ fn compute_field(
             let Some(lines) = lines else {
                 bail!("--field feature_distance needs the lines: give them with --lines");
             };
-            feature_distance(mesh, lines, &FeatureDistanceOptions::default())
+            feature_distance(mesh, lines, &DistanceOptions::default())?.vertex
         }
     })
 }

@@ -24,7 +24,6 @@ pub mod distance;
 pub mod error;
 pub mod extract;
 pub mod extremality;
-pub mod feature_distance;
 pub mod io;
 pub mod lines;
 pub mod mesh;
