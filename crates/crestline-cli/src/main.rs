@@ -5,6 +5,7 @@
 
 mod cmd;
 mod input;
+mod scene;
 
 use clap::{Parser, Subcommand};
 
@@ -18,8 +19,14 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Find ridges and valleys and write them as polylines (OBJ, PLY or JSON).
+    Extract(Box<cmd::extract::Args>),
     /// Print counts and health figures of a mesh.
     Info(cmd::info::Args),
+    /// Draw a mesh, its feature lines and a field as a PNG or SVG picture.
+    Render(cmd::render::Args),
+    /// Write a self-contained HTML viewer (WebGL) of a mesh, its lines and a field.
+    View(cmd::view::Args),
     /// Geodesic distance to the nearest feature line, as a PLY vertex property.
     Distance(cmd::distance::Args),
     /// Simplify a mesh, keeping detail near the feature lines (YBS 2005, eq. 7).
@@ -29,7 +36,10 @@ enum Command {
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Extract(args) => cmd::extract::run(*args),
         Command::Info(args) => cmd::info::run(args),
+        Command::Render(args) => cmd::render::run(args),
+        Command::View(args) => cmd::view::run(args),
         Command::Distance(args) => cmd::distance::run(args),
         Command::Simplify(args) => cmd::simplify::run(args),
     };

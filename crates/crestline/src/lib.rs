@@ -22,9 +22,12 @@
 pub mod curvature;
 pub mod distance;
 pub mod error;
+pub mod extract;
+pub mod extremality;
 pub mod io;
 pub mod lines;
 pub mod mesh;
+pub mod render;
 pub mod saliency;
 pub mod shapes;
 pub mod simplify;

@@ -5,6 +5,8 @@
 //! normals point outward. Vertices lie exactly on the analytic surface.
 //! [`pillow_box`] also returns its exact crease lines, for the simplification tests.
 
+pub mod exact;
+
 use std::f64::consts::{PI, TAU};
 
 use crate::lines::{FeatureLine, FeatureLines, LineKind, SurfacePoint};
@@ -98,14 +100,28 @@ pub fn ellipsoid(a: f64, b: f64, c: f64, subdivisions: u32) -> TriMesh {
     build(positions, faces)
 }
 
+/// How the quads of a parametric grid are split into triangles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum GridPattern {
+    /// Alternating diagonals (a checkerboard): vertices of valence 4 and 8 alternate. The
+    /// pattern of [`torus`], [`cylinder`], [`height_field`] and [`waving_surface`].
+    #[default]
+    Alternating,
+    /// Every quad split along the same diagonal: every interior vertex has valence 6 and
+    /// the mesh is translation-invariant (a regular lattice). Discrete operators that are
+    /// only consistent on regular meshes (the HPW shape operator) are tested on this.
+    Uniform,
+}
+
 /// A grid over the parameter rectangle [0, 1]² mapped through `f`, `nu` × `nv` cells, each
-/// split into two triangles along alternating diagonals. `wrap_u`/`wrap_v` join the last
-/// column/row to the first (periodic directions).
+/// split into two triangles as `pattern` says. `wrap_u`/`wrap_v` join the last column/row
+/// to the first (periodic directions).
 fn parametric(
     nu: usize,
     nv: usize,
     wrap_u: bool,
     wrap_v: bool,
+    pattern: GridPattern,
     f: impl Fn(f64, f64) -> Vec3,
 ) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     let cols = if wrap_u { nu } else { nu + 1 };
@@ -121,7 +137,7 @@ fn parametric(
     for j in 0..nv {
         for i in 0..nu {
             let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (i + j) % 2 == 0 {
+            if pattern == GridPattern::Uniform || (i + j) % 2 == 0 {
                 faces.extend([[a, b, c], [a, c, d]]);
             } else {
                 faces.extend([[a, b, d], [b, c, d]]);
@@ -134,7 +150,18 @@ fn parametric(
 /// A torus around the z axis with tube centre radius `major` and tube radius `minor`.
 /// Principal curvatures: 1/minor across the tube and cos φ / (major + minor cos φ) along it.
 pub fn torus(major: f64, minor: f64, n_major: usize, n_minor: usize) -> TriMesh {
-    let (p, f) = parametric(n_major, n_minor, true, true, |u, v| {
+    torus_with(major, minor, n_major, n_minor, GridPattern::Alternating)
+}
+
+/// [`torus`] with a choice of triangulation.
+pub fn torus_with(
+    major: f64,
+    minor: f64,
+    n_major: usize,
+    n_minor: usize,
+    pattern: GridPattern,
+) -> TriMesh {
+    let (p, f) = parametric(n_major, n_minor, true, true, pattern, |u, v| {
         let (theta, phi) = (TAU * u, TAU * v);
         let r = major + minor * phi.cos();
         Vec3::new(r * theta.cos(), r * theta.sin(), minor * phi.sin())
@@ -145,7 +172,18 @@ pub fn torus(major: f64, minor: f64, n_major: usize, n_minor: usize) -> TriMesh 
 /// An open cylinder of `radius` around the z axis from z = 0 to z = `height`
 /// (k_max = 1/radius around, k_min = 0 along).
 pub fn cylinder(radius: f64, height: f64, n_around: usize, n_along: usize) -> TriMesh {
-    let (p, f) = parametric(n_around, n_along, true, false, |u, v| {
+    cylinder_with(radius, height, n_around, n_along, GridPattern::Alternating)
+}
+
+/// [`cylinder`] with a choice of triangulation.
+pub fn cylinder_with(
+    radius: f64,
+    height: f64,
+    n_around: usize,
+    n_along: usize,
+    pattern: GridPattern,
+) -> TriMesh {
+    let (p, f) = parametric(n_around, n_along, true, false, pattern, |u, v| {
         let theta = TAU * u;
         Vec3::new(radius * theta.cos(), radius * theta.sin(), height * v)
     });
@@ -155,12 +193,24 @@ pub fn cylinder(radius: f64, height: f64, n_around: usize, n_along: usize) -> Tr
 /// The graph z = h(x, y) over [x0, x1] × [y0, y1] on an `nx` × `ny` grid, normal up (+z).
 pub fn height_field(
     h: impl Fn(f64, f64) -> f64,
+    x_range: [f64; 2],
+    y_range: [f64; 2],
+    nx: usize,
+    ny: usize,
+) -> TriMesh {
+    height_field_with(h, x_range, y_range, nx, ny, GridPattern::Alternating)
+}
+
+/// [`height_field`] with a choice of triangulation.
+pub fn height_field_with(
+    h: impl Fn(f64, f64) -> f64,
     [x0, x1]: [f64; 2],
     [y0, y1]: [f64; 2],
     nx: usize,
     ny: usize,
+    pattern: GridPattern,
 ) -> TriMesh {
-    let (p, f) = parametric(nx, ny, false, false, |u, v| {
+    let (p, f) = parametric(nx, ny, false, false, pattern, |u, v| {
         let (x, y) = (x0 + (x1 - x0) * u, y0 + (y1 - y0) * v);
         Vec3::new(x, y, h(x, y))
     });
@@ -170,7 +220,76 @@ pub fn height_field(
 /// The waving surface of YBS 2005, z = cos(sqrt(x² + y²)), over the square [-r, r]² on an
 /// `n` × `n` grid. Its exact crest lines are the circles sqrt(x² + y²) = kπ.
 pub fn waving_surface(r: f64, n: usize) -> TriMesh {
-    height_field(|x, y| (x * x + y * y).sqrt().cos(), [-r, r], [-r, r], n, n)
+    waving_surface_with(r, n, GridPattern::Alternating)
+}
+
+/// [`waving_surface`] with a choice of triangulation.
+pub fn waving_surface_with(r: f64, n: usize, pattern: GridPattern) -> TriMesh {
+    height_field_with(
+        |x, y| (x * x + y * y).sqrt().cos(),
+        [-r, r],
+        [-r, r],
+        n,
+        n,
+        pattern,
+    )
+}
+
+/// A disk of `radius` around the z axis lifted to the graph z = h(x, y), meshed by `rings`
+/// concentric rings of 6, 12, ..., 6·rings vertices around a centre vertex (nearly
+/// equilateral triangles, 6·rings² of them), normal up (+z).
+pub fn disk(h: impl Fn(f64, f64) -> f64, radius: f64, rings: usize) -> TriMesh {
+    let mut positions = vec![Vec3::new(0.0, 0.0, h(0.0, 0.0))];
+    let mut ring_start = vec![0usize];
+    for j in 1..=rings {
+        ring_start.push(positions.len());
+        let r = radius * j as f64 / rings as f64;
+        let n = 6 * j;
+        // Stagger alternate rings by half a step so the strips do not line up.
+        let offset = if j % 2 == 0 { 0.5 } else { 0.0 };
+        for i in 0..n {
+            let a = TAU * (i as f64 + offset) / n as f64;
+            let (x, y) = (r * a.cos(), r * a.sin());
+            positions.push(Vec3::new(x, y, h(x, y)));
+        }
+    }
+    let mut faces = Vec::with_capacity(6 * rings * rings);
+    if rings >= 1 {
+        for b in 0..6 {
+            faces.push([0, (1 + b) as u32, (1 + (b + 1) % 6) as u32]);
+        }
+    }
+    // Between rings j − 1 and j, walk both by angle, always advancing the ring whose next
+    // vertex comes first: each step emits one counter-clockwise triangle.
+    let fraction = |k: usize, count: usize, ring: usize| {
+        let offset = if ring % 2 == 0 { 0.5 } else { 0.0 };
+        (k as f64 + offset) / count as f64
+    };
+    for j in 2..=rings {
+        let (inner, m) = (ring_start[j - 1], 6 * (j - 1));
+        let (outer, n) = (ring_start[j], 6 * j);
+        let (mut a, mut b) = (0usize, 0usize);
+        while a < m || b < n {
+            let ia = (inner + a % m) as u32;
+            let ob = (outer + b % n) as u32;
+            let advance_inner =
+                b == n || (a < m && fraction(a + 1, m, j - 1) < fraction(b + 1, n, j));
+            if advance_inner {
+                faces.push([ia, ob, (inner + (a + 1) % m) as u32]);
+                a += 1;
+            } else {
+                faces.push([ia, ob, (outer + (b + 1) % n) as u32]);
+                b += 1;
+            }
+        }
+    }
+    build(positions, faces)
+}
+
+/// The waving surface z = cos √(x² + y²) over the disk of `radius` (YBS's r(u, v) =
+/// [u cos v, u sin v, cos u], u ≤ radius), meshed by [`disk`] with `rings` rings.
+pub fn waving_disk(radius: f64, rings: usize) -> TriMesh {
+    disk(|x, y| x.hypot(y).cos(), radius, rings)
 }
 
 /// A capsule: a cylinder of `radius` and length `length` along z capped by hemispheres.
@@ -377,5 +496,13 @@ mod tests {
         let w = waving_surface(5.0, 10).info();
         assert_eq!(w.boundary_loops, 1);
         assert_eq!(w.faces, 200);
+        let d = waving_disk(5.0, 7);
+        let info = d.info();
+        assert_eq!(info.faces, 6 * 7 * 7);
+        assert_eq!(info.vertices, 1 + 3 * 7 * 8);
+        assert_eq!((info.boundary_loops, info.euler_characteristic), (1, 1));
+        assert_eq!(info.non_manifold_vertices, 0);
+        let up = crate::mesh::face_normals(&disk(|_, _| 0.0, 1.0, 5));
+        assert!(up.iter().all(|n| (n - Vec3::z()).norm() < 1e-12));
     }
 }

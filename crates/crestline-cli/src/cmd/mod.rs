@@ -1,5 +1,8 @@
 //! One module per subcommand.
 
 pub mod distance;
+pub mod extract;
 pub mod info;
+pub mod render;
 pub mod simplify;
+pub mod view;

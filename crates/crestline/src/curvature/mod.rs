@@ -2,18 +2,35 @@
 //!
 //! Two estimators fill the same [`Curvature`] result:
 //! - [`Estimator::ShapeOperator`]: the discrete shape operator of HPW 2005 (sec. 3) with the
-//!   discrete extremalities of its eq. 4 (`shape_operator.rs`);
+//!   discrete extremalities of its eq. 4 ([`shape_operator()`], [`crate::extremality`]);
 //! - [`Estimator::CubicFit`]: the enhanced adjacent-normal cubic fit of YBS 2005 (eq. 2) with
-//!   the extremality formula of its eq. 3 (`cubic_fit.rs`).
+//!   the extremality of its eq. 3 ([`cubic_fit()`]).
+//!
+//! [`estimate`] dispatches on [`CurvatureOptions::estimator`]; both estimators run in parallel
+//! with rayon and never fail on a mesh (boundaries, non-manifold parts, unreferenced vertices
+//! and tiny components get documented fallbacks, counted in [`Curvature::fallback_vertices`]).
 //!
 //! ## Sign conventions
 //! Normals point outward; curvature is positive where the surface bends away from the normal
 //! (a sphere of radius r has k = 1/r everywhere); `k_max >= k_min`. `dir_max`/`dir_min` are
 //! unit tangent vectors whose sign is arbitrary but fixed; `e_max`/`e_min` are the derivatives
 //! of `k_max`/`k_min` along exactly the stored `dir_max`/`dir_min` (flip a direction and its
-//! extremality flips sign with it).
+//! extremality flips sign with it). Ridges: `e_max = 0`, `de_max/dt_max < 0`,
+//! `k_max > |k_min|`; valleys: `e_min = 0`, `de_min/dt_min > 0`, `k_min < -|k_max|`.
+//!
+//! Under a rigid motion the values are unchanged (directions rotate with the mesh); under a
+//! uniform scaling by s, curvatures scale by 1/s and extremalities by 1/s².
 
-use crate::mesh::Vec3;
+pub mod cubic_fit;
+pub mod shape_operator;
+
+pub use cubic_fit::{CubicFitOptions, cubic_fit};
+pub use shape_operator::{PrincipalSelection, ShapeOperatorOptions, shape_operator};
+
+use rayon::prelude::*;
+
+use crate::error::Result;
+use crate::mesh::{TriMesh, Vec3};
 
 /// Which estimator computes the curvature.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -45,4 +62,284 @@ pub struct Curvature {
     /// Vertices that could not be estimated normally (too few neighbours, unreferenced,
     /// degenerate star) and got a fallback value; never NaN.
     pub fallback_vertices: usize,
+}
+
+impl Curvature {
+    /// Number of vertices the fields describe.
+    pub fn len(&self) -> usize {
+        self.k_max.len()
+    }
+
+    /// True when there are no vertices.
+    pub fn is_empty(&self) -> bool {
+        self.k_max.is_empty()
+    }
+}
+
+/// Options of [`estimate`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CurvatureOptions {
+    /// Which estimator runs.
+    ///
+    /// Default: [`Estimator::ShapeOperator`].
+    pub estimator: Estimator,
+    /// Options of the shape-operator estimator (used when `estimator` is
+    /// [`Estimator::ShapeOperator`]).
+    ///
+    /// Default: [`ShapeOperatorOptions::DEFAULT`].
+    pub shape_operator: ShapeOperatorOptions,
+    /// Options of the cubic fit (used when `estimator` is [`Estimator::CubicFit`]); its
+    /// `rings` is the k of the k-ring neighbourhood.
+    ///
+    /// Default: [`CubicFitOptions::DEFAULT`] (1-ring, YBS pre-smoothing on).
+    pub cubic_fit: CubicFitOptions,
+}
+
+impl CurvatureOptions {
+    /// The default options: shape operator; for the cubic fit, the 1-ring.
+    pub const DEFAULT: Self = CurvatureOptions {
+        estimator: Estimator::ShapeOperator,
+        shape_operator: ShapeOperatorOptions::DEFAULT,
+        cubic_fit: CubicFitOptions::DEFAULT,
+    };
+
+    /// Selects the estimator.
+    pub fn with_estimator(mut self, estimator: Estimator) -> Self {
+        self.estimator = estimator;
+        self
+    }
+
+    /// Sets the k of the cubic fit's k-ring neighbourhood (YBS use 1 to 4).
+    pub fn with_rings(mut self, rings: usize) -> Self {
+        self.cubic_fit.rings = rings;
+        self
+    }
+}
+
+impl Default for CurvatureOptions {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Principal curvatures, directions, extremalities and normals of every vertex of `mesh`,
+/// by the estimator `options` selects.
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] for options out of range (see [`CubicFitOptions`]). A mesh
+/// never causes an error: vertices that cannot be estimated get a fallback value and are
+/// counted in [`Curvature::fallback_vertices`].
+pub fn estimate(mesh: &TriMesh, options: &CurvatureOptions) -> Result<Curvature> {
+    match options.estimator {
+        Estimator::ShapeOperator => Ok(shape_operator(mesh, &options.shape_operator)),
+        Estimator::CubicFit => cubic_fit(mesh, &options.cubic_fit),
+    }
+}
+
+/// A right-handed orthonormal frame `(u, v, n)` around the unit normal `n`.
+///
+/// The tangent vectors depend only on `n`, so the (arbitrary) signs of the principal
+/// directions built from them are fixed. A zero normal (unreferenced vertex) gives the
+/// coordinate frame, so that nothing downstream sees a NaN.
+pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3, Vec3) {
+    let Some(n) = n.try_normalize(1e-300) else {
+        return (Vec3::x(), Vec3::y(), Vec3::z());
+    };
+    // Start from the coordinate axis least aligned with n: the projection is then at least
+    // sqrt(2/3) long, far from cancellation.
+    let axis = if n.x.abs() <= n.y.abs() && n.x.abs() <= n.z.abs() {
+        Vec3::x()
+    } else if n.y.abs() <= n.z.abs() {
+        Vec3::y()
+    } else {
+        Vec3::z()
+    };
+    let u = (axis - n * n.dot(&axis)).normalize();
+    let v = n.cross(&u);
+    (u, v, n)
+}
+
+/// Eigen-decomposition of the symmetric 2×2 matrix `[[a, b], [b, c]]`: returns
+/// `(λ_max, λ_min, t_max)` with `t_max` the unit eigenvector of `λ_max` (the one of `λ_min`
+/// is `t_max` turned by +90°: `(-t_max[1], t_max[0])`).
+///
+/// Closed form rather than an iterative solver: it is exact to rounding, branch-light and
+/// well conditioned (the eigenvector is built from the larger of two equivalent forms).
+/// Plain square roots rather than `hypot` (a measurable cost in the per-vertex loops): entries
+/// beyond ~1e154 overflow to infinity, which the estimators turn into their fallback value.
+pub fn symmetric_eigen_2x2(a: f64, b: f64, c: f64) -> (f64, f64, [f64; 2]) {
+    let mean = 0.5 * (a + c);
+    let half_diff = 0.5 * (a - c);
+    let radius = (half_diff * half_diff + b * b).sqrt();
+    let (x, y) = if half_diff >= 0.0 {
+        (radius + half_diff, b)
+    } else {
+        (b, radius - half_diff)
+    };
+    let norm = (x * x + y * y).sqrt();
+    // An umbilic (radius = 0) has every direction principal: pick the first axis.
+    let t = if norm > 0.0 && norm.is_finite() {
+        [x / norm, y / norm]
+    } else {
+        [1.0, 0.0]
+    };
+    (mean + radius, mean - radius, t)
+}
+
+/// One vertex's estimate, before it is scattered into a [`Curvature`].
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct VertexEstimate {
+    pub k_max: f64,
+    pub k_min: f64,
+    pub dir_max: Vec3,
+    pub dir_min: Vec3,
+    pub e_max: f64,
+    pub e_min: f64,
+    pub normal: Vec3,
+    pub fallback: bool,
+}
+
+impl VertexEstimate {
+    /// The fallback value of a vertex with the given normal (zero normal: coordinate frame).
+    pub fn fallback(normal: Vec3) -> Self {
+        let (u, v, n) = tangent_frame(normal);
+        VertexEstimate {
+            k_max: 0.0,
+            k_min: 0.0,
+            dir_max: u,
+            dir_min: v,
+            e_max: 0.0,
+            e_min: 0.0,
+            normal: n,
+            fallback: true,
+        }
+    }
+
+    /// Replaces anything non-finite (overflow on absurd input) by the fallback value, so that
+    /// the "never NaN" promise holds whatever the arithmetic did.
+    pub fn sanitized(self) -> Self {
+        let finite = [self.k_max, self.k_min, self.e_max, self.e_min]
+            .iter()
+            .all(|x| x.is_finite())
+            && [self.dir_max, self.dir_min, self.normal]
+                .iter()
+                .all(|v| v.iter().all(|x| x.is_finite()));
+        if finite {
+            self
+        } else {
+            VertexEstimate::fallback(if self.normal.iter().all(|x| x.is_finite()) {
+                self.normal
+            } else {
+                Vec3::zeros()
+            })
+        }
+    }
+}
+
+/// Runs `estimate` for every vertex in parallel (with per-job scratch from `init`) and writes
+/// the results straight into the arrays of a [`Curvature`]; also returns the per-vertex
+/// fallback flags.
+pub(crate) fn collect_estimates<T, I, F>(n: usize, init: I, estimate: F) -> (Curvature, Vec<bool>)
+where
+    I: Fn() -> T + Sync + Send,
+    F: Fn(&mut T, u32) -> VertexEstimate + Sync + Send,
+{
+    let mut c = Curvature {
+        k_max: vec![0.0; n],
+        k_min: vec![0.0; n],
+        dir_max: vec![Vec3::zeros(); n],
+        dir_min: vec![Vec3::zeros(); n],
+        e_max: vec![0.0; n],
+        e_min: vec![0.0; n],
+        normals: vec![Vec3::zeros(); n],
+        fallback_vertices: 0,
+    };
+    let mut fallback = vec![false; n];
+    (
+        c.k_max.par_iter_mut(),
+        c.k_min.par_iter_mut(),
+        c.dir_max.par_iter_mut(),
+        c.dir_min.par_iter_mut(),
+        c.e_max.par_iter_mut(),
+        c.e_min.par_iter_mut(),
+        c.normals.par_iter_mut(),
+        fallback.par_iter_mut(),
+    )
+        .into_par_iter()
+        .enumerate()
+        .for_each_init(
+            init,
+            |scratch, (v, (k_max, k_min, dir_max, dir_min, e_max, e_min, normal, fb))| {
+                let est = estimate(scratch, v as u32);
+                *k_max = est.k_max;
+                *k_min = est.k_min;
+                *dir_max = est.dir_max;
+                *dir_min = est.dir_min;
+                *e_max = est.e_max;
+                *e_min = est.e_min;
+                *normal = est.normal;
+                *fb = est.fallback;
+            },
+        );
+    c.fallback_vertices = fallback.iter().filter(|&&f| f).count();
+    (c, fallback)
+}
+
+impl VertexEstimate {
+    /// Writes the estimate into vertex `v` of `c` (the fallback count is not touched).
+    pub fn store(&self, c: &mut Curvature, v: usize) {
+        c.k_max[v] = self.k_max;
+        c.k_min[v] = self.k_min;
+        c.dir_max[v] = self.dir_max;
+        c.dir_min[v] = self.dir_min;
+        c.e_max[v] = self.e_max;
+        c.e_min[v] = self.e_min;
+        c.normals[v] = self.normal;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eigen_2x2_matches_definition() {
+        for &(a, b, c) in &[
+            (2.0, 0.0, 1.0),
+            (1.0, 0.0, 2.0),
+            (0.3, -0.7, 1.1),
+            (-1.0, 2.0, -1.0),
+            (1.0, 1e-20, 1.0),
+        ] {
+            let (l1, l2, t) = symmetric_eigen_2x2(a, b, c);
+            assert!(l1 >= l2);
+            assert!((t[0].hypot(t[1]) - 1.0).abs() < 1e-14);
+            // A t = λ t
+            let at = [a * t[0] + b * t[1], b * t[0] + c * t[1]];
+            assert!((at[0] - l1 * t[0]).abs() < 1e-12 && (at[1] - l1 * t[1]).abs() < 1e-12);
+            assert!((l1 + l2 - (a + c)).abs() < 1e-12);
+            assert!((l1 * l2 - (a * c - b * b)).abs() < 1e-12);
+        }
+        let (l1, l2, t) = symmetric_eigen_2x2(1.0, 0.0, 1.0);
+        assert_eq!((l1, l2, t), (1.0, 1.0, [1.0, 0.0]));
+    }
+
+    #[test]
+    fn tangent_frame_is_orthonormal_and_right_handed() {
+        for n in [
+            Vec3::z(),
+            -Vec3::x(),
+            Vec3::new(1.0, 2.0, -3.0).normalize(),
+            Vec3::new(1e-9, 1.0, 0.0).normalize(),
+        ] {
+            let (u, v, m) = tangent_frame(n);
+            assert!((u.norm() - 1.0).abs() < 1e-14 && (v.norm() - 1.0).abs() < 1e-14);
+            assert!(u.dot(&n).abs() < 1e-14 && v.dot(&n).abs() < 1e-14 && u.dot(&v).abs() < 1e-14);
+            assert!((u.cross(&v) - m).norm() < 1e-14);
+        }
+        assert_eq!(
+            tangent_frame(Vec3::zeros()),
+            (Vec3::x(), Vec3::y(), Vec3::z())
+        );
+    }
 }

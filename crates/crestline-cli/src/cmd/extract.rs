@@ -1,0 +1,412 @@
+//! `crestline extract`: feature lines of a mesh, written as OBJ, PLY or JSON.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use anyhow::{Context, Result, bail};
+use clap::ValueEnum;
+use crestline::extract::{ExtractOptions, Extraction, Method, Stage, extract_with_progress};
+use crestline::io::PlyEncoding;
+use crestline::io::lines::{LinesFormat, write_lines};
+use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
+use crestline::smoothing::surface::SurfaceSmoothing;
+use crestline::{TriMesh, Vec3};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::input::{FormatArg, load_mesh};
+
+/// Which pipeline runs.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum MethodArg {
+    /// Hildebrandt–Polthier–Wardetzky 2005: shape operator, extremality smoothing.
+    Hpw,
+    /// Yoshizawa–Belyaev–Seidel 2005: cubic fitting, gap jumping, strength T.
+    Ybs,
+    /// Mao–Wang–Zhou: mesh saliency and automatic threshold.
+    Saliency,
+}
+
+/// Output formats for lines.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum LinesFormatArg {
+    /// OBJ with `o ridges` / `o valleys` groups of `l` records.
+    Obj,
+    /// PLY vertices and edges with a kind property.
+    Ply,
+    /// JSON: kind, points, length and strengths of every line.
+    Json,
+}
+
+/// How `--stats` prints.
+#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
+pub enum StatsFormat {
+    /// Aligned text on stderr.
+    Text,
+    /// One JSON object on stdout.
+    Json,
+}
+
+/// Arguments of `crestline extract`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
+    pub mesh: Option<PathBuf>,
+    /// Output file for the lines. Default: `<mesh name>-lines.obj` in the current folder.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Read the mesh as this format instead of guessing from the extension.
+    #[arg(long, value_enum)]
+    pub input_format: Option<FormatArg>,
+    /// Output format (default: from the output's extension, else OBJ).
+    #[arg(long, value_enum)]
+    pub format: Option<LinesFormatArg>,
+    /// The method.
+    #[arg(long, value_enum, default_value = "hpw")]
+    pub method: MethodArg,
+    /// Extremality smoothing steps (HPW; default 3, 0 turns it off).
+    #[arg(long)]
+    pub smooth_steps: Option<usize>,
+    /// Extremality smoothing step size, relative to the squared mean edge length (default 1).
+    #[arg(long)]
+    pub smooth_time: Option<f64>,
+    /// Strength threshold, or `auto` to pick it from the knee of the sorted strengths.
+    /// HPW and YBS: the strength T of YBS eq. 5 (default 1); saliency: the saliency (default auto).
+    #[arg(long)]
+    pub threshold: Option<String>,
+    /// Minimum line length as a fraction of the bounding-box diagonal (default 0.01).
+    #[arg(long)]
+    pub min_length: Option<f64>,
+    /// Spatial fairing: largest displacement as a fraction of the bounding-box diagonal
+    /// (for example 0.002). Off by default.
+    #[arg(long)]
+    pub fair: Option<f64>,
+    /// Surface pre-smoothing steps (implicit mean-curvature flow). Off by default.
+    #[arg(long)]
+    pub pre_smooth: Option<usize>,
+    /// Rings of the cubic fit (YBS and saliency; 1 to 4, default 1).
+    #[arg(long)]
+    pub rings: Option<usize>,
+    /// Per-vertex diffusion factors for inhomogeneous smoothing: a text file with one number
+    /// per vertex (whitespace separated, `#` comments).
+    #[arg(long)]
+    pub mask: Option<PathBuf>,
+    /// A sphere `x,y,z,r,factor` scaling the smoothing inside it (repeatable).
+    #[arg(long = "mask-sphere", value_name = "X,Y,Z,R,F")]
+    pub mask_spheres: Vec<String>,
+    /// A box `x0,y0,z0,x1,y1,z1,factor` scaling the smoothing inside it (repeatable).
+    #[arg(long = "mask-box", value_name = "X0,Y0,Z0,X1,Y1,Z1,F")]
+    pub mask_boxes: Vec<String>,
+    /// Disable YBS gap jumping.
+    #[arg(long)]
+    pub no_gaps: bool,
+    /// Print statistics: triangles, singular triangles, lines, length, time per stage.
+    #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "text")]
+    pub stats: Option<StatsFormat>,
+    /// Also write a picture of the mesh and lines (PNG).
+    #[arg(long, value_name = "PICTURE.png")]
+    pub png: Option<PathBuf>,
+    /// Also write a picture with the lines as vector paths (SVG).
+    #[arg(long, value_name = "PICTURE.svg")]
+    pub svg: Option<PathBuf>,
+    /// Also write a self-contained interactive viewer (HTML, WebGL).
+    #[arg(long, value_name = "VIEW.html")]
+    pub html: Option<PathBuf>,
+    /// Do not show progress.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Runs the subcommand.
+pub fn run(args: Args) -> Result<()> {
+    let (mesh, name) = load_mesh(args.mesh.as_ref(), args.input_format)?;
+    let options = options_from_args(&args, &mesh)?;
+    let extraction = run_with_progress(&mesh, &options, args.quiet)?;
+
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(args.mesh.as_deref()));
+    let format = args.format.map(|f| match f {
+        LinesFormatArg::Obj => LinesFormat::Obj,
+        LinesFormatArg::Ply => LinesFormat::Ply,
+        LinesFormatArg::Json => LinesFormat::Json,
+    });
+    let format = format
+        .or_else(|| LinesFormat::from_path(&output))
+        .unwrap_or(LinesFormat::Obj);
+    write_lines(
+        &output,
+        &extraction.lines,
+        Some(format),
+        PlyEncoding::BinaryLittleEndian,
+    )?;
+
+    let picture_options = crestline::render::RenderOptions::default();
+    for (path, write) in [
+        (&args.png, crestline::render::write_png as PictureWriter),
+        (&args.svg, crestline::render::write_svg),
+        (&args.html, crestline::render::write_html),
+    ] {
+        if let Some(path) = path {
+            write(path, &mesh, Some(&extraction.lines), None, &picture_options)?;
+            if !args.quiet {
+                eprintln!("wrote {}", path.display());
+            }
+        }
+    }
+
+    let s = &extraction.stats;
+    if !args.quiet {
+        eprintln!(
+            "{name}: {} lines ({} ridges, {} valleys), total length {:.4} -> {}",
+            s.lines,
+            s.ridges,
+            s.valleys,
+            s.total_length,
+            output.display()
+        );
+        if s.threshold_is_auto {
+            eprintln!("automatic threshold: {:.6}", s.threshold);
+        }
+    }
+    match args.stats {
+        Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, &mesh)),
+        Some(StatsFormat::Json) => println!(
+            "{}",
+            serde_json::to_string_pretty(&stats_json(&extraction, &mesh))?
+        ),
+        None => {}
+    }
+    Ok(())
+}
+
+type PictureWriter = fn(
+    &Path,
+    &TriMesh,
+    Option<&crestline::lines::FeatureLines>,
+    Option<&[f64]>,
+    &crestline::render::RenderOptions,
+) -> crestline::Result<()>;
+
+/// Turns the arguments into the library's options.
+pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> {
+    let method = match args.method {
+        MethodArg::Hpw => Method::Hpw,
+        MethodArg::Ybs => Method::Ybs,
+        MethodArg::Saliency => Method::Saliency,
+    };
+    let mut o = ExtractOptions::for_method(method);
+    if let Some(n) = args.smooth_steps {
+        o.smoothing.steps = n;
+    }
+    if let Some(t) = args.smooth_time {
+        o.smoothing.time_step = t;
+    }
+    match args.threshold.as_deref() {
+        Some("auto") => o.auto_threshold = true,
+        Some(x) => {
+            o.filter.threshold = x
+                .parse()
+                .with_context(|| format!("--threshold takes a number or `auto`, got `{x}`"))?;
+            o.auto_threshold = false;
+        }
+        None => {}
+    }
+    if let Some(l) = args.min_length {
+        o.filter.min_length = l;
+    }
+    let diagonal = mesh.bounding_box().diagonal();
+    if let Some(f) = args.fair {
+        o.fairing.tolerance = f * diagonal;
+    }
+    if let Some(n) = args.pre_smooth {
+        o.pre_smoothing = SurfaceSmoothing {
+            steps: n,
+            ..Default::default()
+        };
+    }
+    if let Some(k) = args.rings {
+        o.curvature = o.curvature.with_rings(k);
+    }
+    if args.no_gaps {
+        o.gaps = None;
+    }
+    o.smoothing.diffusion = diffusion_factors(args, mesh)?;
+    Ok(o)
+}
+
+fn diffusion_factors(args: &Args, mesh: &TriMesh) -> Result<Option<Vec<f64>>> {
+    let mut factors = match &args.mask {
+        Some(path) => Some(read_factors(path, mesh.num_vertices())?),
+        None => None,
+    };
+    let mut mask = DiffusionMask::default();
+    for s in &args.mask_spheres {
+        let v = numbers(s, 5, "--mask-sphere")?;
+        mask.regions.push(MaskRegion::Sphere {
+            center: Vec3::new(v[0], v[1], v[2]),
+            radius: v[3],
+            factor: v[4],
+        });
+    }
+    for s in &args.mask_boxes {
+        let v = numbers(s, 7, "--mask-box")?;
+        mask.regions.push(MaskRegion::Box {
+            min: Vec3::new(v[0], v[1], v[2]),
+            max: Vec3::new(v[3], v[4], v[5]),
+            factor: v[6],
+        });
+    }
+    if !mask.regions.is_empty() {
+        let regions = mask.factors(mesh);
+        // Regions apply on top of the file's factors, where they contain the vertex.
+        factors = Some(match factors {
+            Some(f) => f.iter().zip(&regions).map(|(a, b)| a * b).collect(),
+            None => regions,
+        });
+    }
+    Ok(factors)
+}
+
+fn numbers(text: &str, count: usize, flag: &str) -> Result<Vec<f64>> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("{flag} takes {count} comma-separated numbers, got `{text}`"))?;
+    if v.len() != count || v.iter().any(|x| !x.is_finite()) {
+        bail!("{flag} takes {count} comma-separated finite numbers, got `{text}`");
+    }
+    Ok(v)
+}
+
+fn read_factors(path: &Path, n: usize) -> Result<Vec<f64>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut values = Vec::with_capacity(n);
+    for (i, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("");
+        for token in line.split_whitespace() {
+            let x: f64 = token.parse().map_err(|_| {
+                anyhow::anyhow!(
+                    "{}: line {}: `{token}` is not a number",
+                    path.display(),
+                    i + 1
+                )
+            })?;
+            if !(x.is_finite() && x >= 0.0) {
+                bail!(
+                    "{}: line {}: factor must be finite and >= 0, got {x}",
+                    path.display(),
+                    i + 1
+                );
+            }
+            values.push(x);
+        }
+    }
+    if values.len() != n {
+        bail!(
+            "{}: {} factors for a mesh of {n} vertices",
+            path.display(),
+            values.len()
+        );
+    }
+    Ok(values)
+}
+
+fn default_output(mesh: Option<&Path>) -> PathBuf {
+    let stem = mesh
+        .and_then(|p| p.file_stem())
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "example".into());
+    PathBuf::from(format!("{stem}-lines.obj"))
+}
+
+/// Runs the extraction with a spinner per stage on stderr (unless quiet).
+pub fn run_with_progress(
+    mesh: &TriMesh,
+    options: &ExtractOptions,
+    quiet: bool,
+) -> Result<Extraction> {
+    let mut spinner: Option<ProgressBar> = None;
+    let style = ProgressStyle::with_template("{spinner} {msg} {elapsed}")
+        .unwrap_or_else(|_| ProgressStyle::default_spinner());
+    let mut progress = |stage: Stage, done: Option<Duration>| {
+        if quiet {
+            return;
+        }
+        match done {
+            None => {
+                let bar = ProgressBar::new_spinner().with_style(style.clone());
+                bar.set_message(stage.name());
+                bar.enable_steady_tick(Duration::from_millis(100));
+                spinner = Some(bar);
+            }
+            Some(t) => {
+                if let Some(bar) = spinner.take() {
+                    bar.finish_and_clear();
+                }
+                if t > Duration::from_millis(500) {
+                    eprintln!("{} done in {:.2} s", stage.name(), t.as_secs_f64());
+                }
+            }
+        }
+    };
+    Ok(extract_with_progress(mesh, options, &mut progress)?)
+}
+
+fn stats_text(x: &Extraction, mesh: &TriMesh) -> String {
+    let s = &x.stats;
+    let pct = |n: usize| 100.0 * n as f64 / s.triangles.max(1) as f64;
+    let mut out = String::new();
+    out += &format!("triangles              {}\n", s.triangles);
+    out += &format!(
+        "singular (max/min)     {} ({:.2}%) / {} ({:.2}%)\n",
+        s.trace.singular_max,
+        pct(s.trace.singular_max),
+        s.trace.singular_min,
+        pct(s.trace.singular_min)
+    );
+    out += &format!("lines traced           {}\n", s.lines_traced);
+    out += &format!(
+        "lines kept             {} ({} ridges, {} valleys)\n",
+        s.lines, s.ridges, s.valleys
+    );
+    out += &format!(
+        "total length           {:.6} ({:.2} diagonals)\n",
+        s.total_length,
+        s.total_length / mesh.bounding_box().diagonal().max(f64::MIN_POSITIVE)
+    );
+    out += &format!(
+        "threshold              {:.6}{}\n",
+        s.threshold,
+        if s.threshold_is_auto { " (auto)" } else { "" }
+    );
+    if s.gaps_jumped > 0 {
+        out += &format!("gaps jumped            {}\n", s.gaps_jumped);
+    }
+    for (stage, t) in &s.stage_times {
+        out += &format!("time {:<22} {:.3} s\n", stage.name(), t.as_secs_f64());
+    }
+    out
+}
+
+fn stats_json(x: &Extraction, mesh: &TriMesh) -> serde_json::Value {
+    let s = &x.stats;
+    serde_json::json!({
+        "triangles": s.triangles,
+        "singular_max": s.trace.singular_max,
+        "singular_min": s.trace.singular_min,
+        "lines_traced": s.lines_traced,
+        "lines": s.lines,
+        "ridges": s.ridges,
+        "valleys": s.valleys,
+        "total_length": s.total_length,
+        "diagonal": mesh.bounding_box().diagonal(),
+        "threshold": s.threshold,
+        "threshold_auto": s.threshold_is_auto,
+        "gaps_jumped": s.gaps_jumped,
+        "fallback_vertices": s.fallback_vertices,
+        "stage_seconds": s.stage_times.iter().map(|(st, t)| (st.name().to_string(), serde_json::json!(t.as_secs_f64()))).collect::<serde_json::Map<_, _>>(),
+    })
+}

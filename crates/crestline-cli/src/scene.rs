@@ -1,0 +1,224 @@
+//! What `crestline render` and `crestline view` show: a mesh, optional feature lines and an
+//! optional per-vertex field, and the view options they share.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::ValueEnum;
+use crestline::TriMesh;
+use crestline::curvature::{CurvatureOptions, estimate};
+use crestline::distance::{DistanceOptions, feature_distance};
+use crestline::io::lines::read_lines_obj;
+use crestline::lines::FeatureLines;
+use crestline::render::{ColorMapChoice, RenderOptions, UpAxis};
+use crestline::saliency::{SaliencyOptions, mesh_saliency};
+
+use crate::input::{FormatArg, load_mesh};
+
+/// Per-vertex fields that can colour the mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FieldArg {
+    /// Maximal principal curvature.
+    #[value(name = "k_max", alias = "k-max")]
+    KMax,
+    /// Minimal principal curvature.
+    #[value(name = "k_min", alias = "k-min")]
+    KMin,
+    /// Extremality of k_max.
+    #[value(name = "e_max", alias = "e-max")]
+    EMax,
+    /// Extremality of k_min.
+    #[value(name = "e_min", alias = "e-min")]
+    EMin,
+    /// Mesh saliency (Mao et al.).
+    Saliency,
+    /// Distance along the surface to the nearest feature line (needs --lines).
+    #[value(name = "feature_distance", alias = "feature-distance")]
+    FeatureDistance,
+}
+
+impl FieldArg {
+    /// The name shown on the legend.
+    pub fn name(self) -> &'static str {
+        match self {
+            FieldArg::KMax => "k_max",
+            FieldArg::KMin => "k_min",
+            FieldArg::EMax => "e_max",
+            FieldArg::EMin => "e_min",
+            FieldArg::Saliency => "saliency",
+            FieldArg::FeatureDistance => "feature_distance",
+        }
+    }
+}
+
+/// The model's up axis.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum UpArg {
+    /// +Y up (OBJ convention).
+    Y,
+    /// +Z up (CAD convention).
+    Z,
+}
+
+/// Colour maps.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum ColorMapArg {
+    /// Diverging for signed fields, viridis otherwise.
+    Auto,
+    /// Viridis.
+    Viridis,
+    /// Purple-white-green, centred at 0.
+    Diverging,
+}
+
+/// Arguments shared by `render` and `view`.
+#[derive(Debug, clap::Args)]
+pub struct SceneArgs {
+    /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
+    pub mesh: Option<PathBuf>,
+    /// Read the mesh as this format instead of guessing from the extension.
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
+    /// Feature lines to draw: an OBJ file of polylines as `crestline extract` writes it.
+    #[arg(long, value_name = "LINES.obj")]
+    pub lines: Option<PathBuf>,
+    /// Colour the mesh by this per-vertex field.
+    #[arg(long, value_enum)]
+    pub field: Option<FieldArg>,
+    /// Camera azimuth and elevation in degrees [default: 30,20].
+    #[arg(long, value_name = "AZ,EL", value_parser = parse_view, allow_hyphen_values = true)]
+    pub view: Option<(f64, f64)>,
+    /// The model's up axis.
+    #[arg(long, value_enum, default_value = "y")]
+    pub up: UpArg,
+    /// Colour map for --field.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub colormap: ColorMapArg,
+    /// Line width in pixels [default: 2.5].
+    #[arg(long)]
+    pub line_width: Option<f64>,
+    /// Do not draw ridges (the viewer starts with them off).
+    #[arg(long)]
+    pub no_ridges: bool,
+    /// Do not draw valleys (the viewer starts with them off).
+    #[arg(long)]
+    pub no_valleys: bool,
+}
+
+/// A loaded scene.
+pub struct Scene {
+    /// The mesh.
+    pub mesh: TriMesh,
+    /// Feature lines, when `--lines` was given.
+    pub lines: Option<FeatureLines>,
+    /// One value per vertex, when `--field` was given.
+    pub field: Option<Vec<f64>>,
+}
+
+impl SceneArgs {
+    /// Loads the mesh and the lines and computes the field.
+    pub fn load(&self) -> Result<Scene> {
+        let (mesh, _) = load_mesh(self.mesh.as_ref(), self.format)?;
+        let lines = match &self.lines {
+            // Reading errors already name the file and the line in it.
+            Some(path) => Some(read_lines_obj(path).context("cannot load the lines")?),
+            None => None,
+        };
+        let field = match self.field {
+            Some(f) => Some(compute_field(&mesh, lines.as_ref(), f)?),
+            None => None,
+        };
+        Ok(Scene { mesh, lines, field })
+    }
+
+    /// The render options these arguments set (over the library's defaults).
+    pub fn options(&self) -> RenderOptions {
+        let mut opts = RenderOptions::default();
+        if let Some((azimuth, elevation)) = self.view {
+            opts = opts.with_view(azimuth, elevation);
+        }
+        opts.up = match self.up {
+            UpArg::Y => UpAxis::Y,
+            UpArg::Z => UpAxis::Z,
+        };
+        opts.color_map = match self.colormap {
+            ColorMapArg::Auto => ColorMapChoice::Auto,
+            ColorMapArg::Viridis => ColorMapChoice::Viridis,
+            ColorMapArg::Diverging => ColorMapChoice::Diverging,
+        };
+        if let Some(w) = self.line_width {
+            opts.line_width = w;
+        }
+        opts.show_ridges = !self.no_ridges;
+        opts.show_valleys = !self.no_valleys;
+        if let Some(f) = self.field {
+            opts.legend_title = f.name().to_string();
+        }
+        opts
+    }
+}
+
+/// Computes the per-vertex field `field` on `mesh` with the library's default options.
+fn compute_field(
+    mesh: &TriMesh,
+    lines: Option<&FeatureLines>,
+    field: FieldArg,
+) -> Result<Vec<f64>> {
+    let curvature = || estimate(mesh, &CurvatureOptions::default());
+    Ok(match field {
+        FieldArg::KMax => curvature()?.k_max,
+        FieldArg::KMin => curvature()?.k_min,
+        FieldArg::EMax => curvature()?.e_max,
+        FieldArg::EMin => curvature()?.e_min,
+        FieldArg::Saliency => {
+            mesh_saliency(mesh, &curvature()?, &SaliencyOptions::default())?.saliency
+        }
+        FieldArg::FeatureDistance => {
+            let Some(lines) = lines else {
+                bail!("--field feature_distance needs the lines: give them with --lines");
+            };
+            feature_distance(mesh, lines, &DistanceOptions::default())?.vertex
+        }
+    })
+}
+
+/// Parses `AZ,EL` in degrees.
+fn parse_view(s: &str) -> Result<(f64, f64), String> {
+    let (a, e) = s
+        .split_once(',')
+        .ok_or_else(|| format!("'{s}': expected AZ,EL in degrees, for example 30,20"))?;
+    let num = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("'{t}' is not a number of degrees"))
+    };
+    Ok((num(a)?, num(e)?))
+}
+
+/// Parses `W` or `WxH` in pixels.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let num = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("'{t}' is not a number of pixels"))
+    };
+    match s.split_once(['x', 'X']) {
+        Some((w, h)) => Ok((num(w)?, num(h)?)),
+        None => num(s).map(|w| (w, w)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn view_and_size_parse() {
+        assert_eq!(parse_view("30,20"), Ok((30.0, 20.0)));
+        assert_eq!(parse_view("-45, -10.5"), Ok((-45.0, -10.5)));
+        assert!(parse_view("30").is_err());
+        assert_eq!(parse_size("800"), Ok((800, 800)));
+        assert_eq!(parse_size("800x600"), Ok((800, 600)));
+        assert!(parse_size("800x").is_err());
+    }
+}

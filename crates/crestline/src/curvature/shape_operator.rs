@@ -1,0 +1,504 @@
+//! The discrete shape operator of Hildebrandt, Polthier and Wardetzky, *Smooth Feature Lines
+//! on Surface Meshes*, SGP 2005 (HPW), sec. 3, after Cohen-Steiner and Morvan (2003) and
+//! Hildebrandt and Polthier (2004).
+//!
+//! **Edge operator.** For an edge e with unit direction ê, faces of unit normals N₁, N₂ and
+//! dihedral angle θ_e,
+//! `S(e) = H_e (ê × N_e)(ê × N_e)ᵀ`, `H_e = 2|e| cos(θ_e / 2)`, `N_e = (N₁ + N₂)/|N₁ + N₂|`.
+//! `H_e` is the integrated mean curvature of the edge: with β the angle between the two face
+//! normals, θ_e = π − β, so `H_e = 2|e| sin(β/2) ≈ |e| β`. We evaluate it in the signed form
+//! `sin(β/2) = ±|N₁ − N₂| / 2`, positive on convex edges (the surface bends away from the
+//! outward normals) and negative on concave ones, which matches the crate's convention
+//! (k > 0 where the surface bends away from the normal). The sign is that of
+//! `(N₁ × N₂) · ê` with ê oriented as the edge runs in face 1's winding.
+//!
+//! **Vertex operator.** `S(p) = ½ Σ_{e∋p} ⟨N_p, N_e⟩ S(e)` with N_p the area-weighted vertex
+//! normal; the ½ shares each edge between its two endpoints. S(p) is an integrated quantity;
+//! the point value is `3 / area(star(p)) · S(p)` (HPW: rescaling by the lumped mass matrix;
+//! area(star(p))/3 is the barycentric area of p). On a sphere of radius r this gives 1/r, on a
+//! cylinder 1/r across and 0 along the axis.
+//!
+//! **Principal curvatures.** HPW take the two eigenvalues of largest absolute value of the
+//! 3×3 tensor ([`PrincipalSelection::LargestMagnitude`], nalgebra's symmetric eigensolver).
+//! That rule is ambiguous wherever a principal curvature is close to zero — cylinders, cones,
+//! flat and CAD regions — because the normal-direction eigenvalue is close to zero as well:
+//! which of the two "small" eigenvectors is reported as the principal direction is then
+//! decided by rounding, and the reported direction can be the normal. The default
+//! [`PrincipalSelection::TangentPlane`] restricts S(p) to the tangent plane of N_p and takes
+//! the eigen-pairs of that 2×2 matrix; where the paper's rule is unambiguous the two agree up
+//! to the (second order) tilt between N_p and S(p)'s null direction.
+//!
+//! **Boundaries and non-manifold parts.** A boundary edge (one face) has no dihedral angle
+//! and contributes nothing; a non-manifold edge (three or more faces) has no meaningful one
+//! and is skipped; so is an edge whose faces fold onto each other (N₁ + N₂ ≈ 0). A face whose
+//! orientation disagrees with its neighbour's is handled edge by edge (the neighbour's normal
+//! is flipped for the dihedral angle and ⟨N_p, N_e⟩ carries the sign back to N_p), but the
+//! area-weighted vertex normal itself is only meaningful on consistently oriented meshes.
+//! Because their boundary edges are missing, boundary vertices underestimate the curvature
+//! across the boundary; by default ([`ShapeOperatorOptions::boundary_from_interior`]) a
+//! boundary vertex takes the star-area-weighted mean of the point operators of its interior
+//! neighbours, restricted to its own tangent plane. A vertex with no usable edge at all (an
+//! isolated triangle, a strip whose vertices are all on the boundary), an unreferenced vertex
+//! or a vertex of zero star area gets the fallback value (k = 0, e = 0, an arbitrary tangent
+//! frame) and is counted in [`Curvature::fallback_vertices`].
+//!
+//! **Known limits.** The operator converges in an integrated (measure) sense; its point
+//! values converge under refinement on regular (e.g. subdivided or grid) meshes but not
+//! pointwise on arbitrary irregular meshes, and the eq. 4 extremalities, which differentiate
+//! them once more, amplify that. Extremalities are computed by [`crate::extremality`].
+
+use nalgebra::SymmetricEigen;
+use rayon::prelude::*;
+
+use super::{Curvature, VertexEstimate, collect_estimates, symmetric_eigen_2x2, tangent_frame};
+use crate::extremality::extremalities_with;
+use crate::mesh::{TriMesh, Vec3, VertexKind};
+
+/// A symmetric 3×3 matrix of `f64` (shape operators).
+pub type Matrix3 = nalgebra::Matrix3<f64>;
+
+/// How the two principal curvatures are read off the 3×3 vertex operator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PrincipalSelection {
+    /// Eigen-pairs of the operator restricted to the tangent plane of the vertex normal:
+    /// directions are always tangent, and cylinders and flat regions are unambiguous.
+    #[default]
+    TangentPlane,
+    /// HPW's literal rule: the two eigenvalues of largest absolute value of the 3×3 operator
+    /// and their eigenvectors (which need not be tangent where a principal curvature is ≈ 0).
+    LargestMagnitude,
+}
+
+/// Options of [`shape_operator()`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShapeOperatorOptions {
+    /// How principal curvatures and directions are read off the vertex operator.
+    ///
+    /// Default: [`PrincipalSelection::TangentPlane`].
+    pub selection: PrincipalSelection,
+    /// Whether a boundary vertex takes the star-area-weighted mean of its interior
+    /// neighbours' point operators (its own star misses the boundary edges' bending). When it
+    /// has no interior neighbour its own estimate is kept.
+    ///
+    /// Default: `true`.
+    pub boundary_from_interior: bool,
+}
+
+impl ShapeOperatorOptions {
+    /// The default options (see each field).
+    pub const DEFAULT: Self = ShapeOperatorOptions {
+        selection: PrincipalSelection::TangentPlane,
+        boundary_from_interior: true,
+    };
+
+    /// Sets [`ShapeOperatorOptions::selection`].
+    pub fn with_selection(mut self, selection: PrincipalSelection) -> Self {
+        self.selection = selection;
+        self
+    }
+
+    /// Sets [`ShapeOperatorOptions::boundary_from_interior`].
+    pub fn with_boundary_from_interior(mut self, on: bool) -> Self {
+        self.boundary_from_interior = on;
+        self
+    }
+}
+
+impl Default for ShapeOperatorOptions {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// The shape operator of one edge, `S(e) = H_e w wᵀ` with `w = ê × N_e`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeShapeOperator {
+    /// Signed integrated mean curvature `H_e = 2|e| cos(θ_e/2)`, positive on convex edges.
+    pub mean_curvature: f64,
+    /// Unit tangent vector across the edge, `ê × N_e`.
+    pub across: Vec3,
+    /// Unit edge normal `N_e`, the normalised sum of the two face normals.
+    pub normal: Vec3,
+}
+
+impl EdgeShapeOperator {
+    /// The 3×3 matrix `H_e w wᵀ`.
+    pub fn matrix(&self) -> Matrix3 {
+        self.across * self.across.transpose() * self.mean_curvature
+    }
+}
+
+/// The shape operator of the edge from `a` to `b`, where `n1` is the unit normal of the face
+/// that runs through the edge from `a` to `b` and `n2` the unit normal of the other face,
+/// both oriented the same way (outward).
+///
+/// Returns `None` for a zero-length edge, a zero normal, or faces folded onto each other
+/// (`N₁ + N₂ ≈ 0`), where neither the edge normal nor the bending direction is defined.
+pub fn edge_shape_operator(a: Vec3, b: Vec3, n1: Vec3, n2: Vec3) -> Option<EdgeShapeOperator> {
+    let edge = b - a;
+    let length = edge.norm();
+    let sum = n1 + n2;
+    let sum_norm = sum.norm();
+    // |N₁ + N₂| = 2 cos(β/2): below ~1e-6 the faces are folded back to within a micro-radian
+    // and N_e is noise.
+    if !(length > 0.0) || !(sum_norm > 1e-6) || n1 == Vec3::zeros() || n2 == Vec3::zeros() {
+        return None;
+    }
+    let e_hat = edge / length;
+    let normal = sum / sum_norm;
+    // sin(β/2) = |N₁ − N₂|/2 for unit normals; the sign says convex (+) or concave (−).
+    let half_sine = 0.5 * (n1 - n2).norm();
+    let signed = if n1.cross(&n2).dot(&e_hat) < 0.0 {
+        -half_sine
+    } else {
+        half_sine
+    };
+    // ê and N_e are unit and orthogonal (both face normals are orthogonal to the edge), so
+    // their cross product is unit up to rounding.
+    let across = e_hat.cross(&normal);
+    Some(EdgeShapeOperator {
+        mean_curvature: 2.0 * length * signed,
+        across,
+        normal,
+    })
+}
+
+/// True when face `t` runs from `a` to `b` (in its cyclic order).
+#[inline]
+fn runs_from_to(t: [u32; 3], a: u32, b: u32) -> bool {
+    (t[0] == a && t[1] == b) || (t[1] == a && t[2] == b) || (t[2] == a && t[0] == b)
+}
+
+/// Unit normals and areas of all faces from one cross product each (zero normal for a
+/// face made degenerate by [`TriMesh::with_positions`]).
+pub(crate) fn face_normals_and_areas(mesh: &TriMesh) -> (Vec<Vec3>, Vec<f64>) {
+    (0..mesh.num_faces())
+        .into_par_iter()
+        .map(|f| {
+            let [a, b, c] = mesh.triangle(f);
+            let cross = (b - a).cross(&(c - a));
+            let norm = cross.norm();
+            let normal = if norm > 0.0 {
+                cross / norm
+            } else {
+                Vec3::zeros()
+            };
+            (normal, 0.5 * norm)
+        })
+        .unzip()
+}
+
+/// The edge operator of mesh edge `e`, oriented by its first face, or `None` for a boundary,
+/// non-manifold, folded or degenerate edge.
+fn mesh_edge_operator(mesh: &TriMesh, face_normals: &[Vec3], e: u32) -> Option<EdgeShapeOperator> {
+    let topo = mesh.topology();
+    let &[f1, f2] = topo.edge_faces(e) else {
+        return None;
+    };
+    let faces = mesh.faces();
+    let [p, q] = topo.edge(e);
+    let (t1, t2) = (faces[f1 as usize], faces[f2 as usize]);
+    let (a, b) = if runs_from_to(t1, p, q) {
+        (p, q)
+    } else {
+        (q, p)
+    };
+    let n1 = face_normals[f1 as usize];
+    // A consistently oriented neighbour runs the other way; if it runs the same way its
+    // normal points to the other side and is flipped to measure the dihedral angle.
+    let n2 = if runs_from_to(t2, a, b) {
+        -face_normals[f2 as usize]
+    } else {
+        face_normals[f2 as usize]
+    };
+    edge_shape_operator(mesh.position(a), mesh.position(b), n1, n2)
+}
+
+/// The edge operators of all edges; skipped edges get `mean_curvature = 0` (they then add
+/// nothing) and are told apart by a zero `normal`.
+fn all_edge_operators(mesh: &TriMesh, face_normals: &[Vec3]) -> Vec<EdgeShapeOperator> {
+    const SKIPPED: EdgeShapeOperator = EdgeShapeOperator {
+        mean_curvature: 0.0,
+        across: Vec3::new(0.0, 0.0, 0.0),
+        normal: Vec3::new(0.0, 0.0, 0.0),
+    };
+    (0..mesh.topology().num_edges() as u32)
+        .into_par_iter()
+        .map(|e| mesh_edge_operator(mesh, face_normals, e).unwrap_or(SKIPPED))
+        .collect()
+}
+
+/// Area-weighted unit vertex normals from unit face normals and areas (zero when the vertex
+/// has no face or its normals cancel).
+fn area_weighted_normals(mesh: &TriMesh, face_normals: &[Vec3], face_areas: &[f64]) -> Vec<Vec3> {
+    let topo = mesh.topology();
+    (0..mesh.num_vertices() as u32)
+        .into_par_iter()
+        .map(|v| {
+            let mut n = Vec3::zeros();
+            for &f in topo.vertex_faces(v) {
+                n += face_normals[f as usize] * face_areas[f as usize];
+            }
+            n.try_normalize(0.0).unwrap_or_else(Vec3::zeros)
+        })
+        .collect()
+}
+
+/// The integrated vertex operators `S(p) = ½ Σ_{e∋p} ⟨N_p, N_e⟩ S(e)` of HPW sec. 3, one per
+/// vertex, for the given unit vertex normals (boundary, non-manifold and folded edges skipped).
+///
+/// Divide by `area(star(p)) / 3` for point values.
+pub fn vertex_shape_operators(mesh: &TriMesh, vertex_normals: &[Vec3]) -> Vec<Matrix3> {
+    let (normals, _) = face_normals_and_areas(mesh);
+    let edges = all_edge_operators(mesh, &normals);
+    (0..mesh.num_vertices() as u32)
+        .into_par_iter()
+        .map(|v| integrated_operator(mesh, &edges, vertex_normals[v as usize], v).0)
+        .collect()
+}
+
+/// `S(p)` of vertex `v` and the number of edges that contributed.
+#[inline]
+fn integrated_operator(
+    mesh: &TriMesh,
+    edges: &[EdgeShapeOperator],
+    normal: Vec3,
+    v: u32,
+) -> (Matrix3, usize) {
+    // Accumulate the six distinct entries of the symmetric sum; nalgebra's general 3×3
+    // outer product would compute nine.
+    let (mut xx, mut xy, mut xz, mut yy, mut yz, mut zz) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let mut used = 0;
+    for &e in mesh.topology().vertex_edges(v) {
+        let op = &edges[e as usize];
+        if op.normal == Vec3::zeros() {
+            continue;
+        }
+        let weight = 0.5 * normal.dot(&op.normal) * op.mean_curvature;
+        let w = op.across * weight;
+        let a = op.across;
+        xx += w.x * a.x;
+        xy += w.x * a.y;
+        xz += w.x * a.z;
+        yy += w.y * a.y;
+        yz += w.y * a.z;
+        zz += w.z * a.z;
+        used += 1;
+    }
+    (Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz), used)
+}
+
+/// Point operator `3/area(star(p)) · S(p)` of vertex `v`, or `None` when it cannot be
+/// estimated (no faces, zero star area, zero normal or no usable edge).
+#[inline]
+fn point_operator(
+    mesh: &TriMesh,
+    edges: &[EdgeShapeOperator],
+    face_areas: &[f64],
+    vertex_normals: &[Vec3],
+    v: u32,
+) -> Option<Matrix3> {
+    let star: f64 = mesh
+        .topology()
+        .vertex_faces(v)
+        .iter()
+        .map(|&f| face_areas[f as usize])
+        .sum();
+    let normal = vertex_normals[v as usize];
+    if !(star > 0.0) || normal == Vec3::zeros() {
+        return None;
+    }
+    let (s, used) = integrated_operator(mesh, edges, normal, v);
+    (used > 0).then(|| s * (3.0 / star))
+}
+
+/// Principal curvatures and unit directions `(k_max, k_min, dir_max, dir_min)` of a point
+/// shape operator at a vertex of unit normal `normal`.
+pub fn principal_curvatures(
+    operator: &Matrix3,
+    normal: Vec3,
+    selection: PrincipalSelection,
+) -> (f64, f64, Vec3, Vec3) {
+    match selection {
+        PrincipalSelection::TangentPlane => {
+            let (u, v, _) = tangent_frame(normal);
+            let su = operator * u;
+            let sv = operator * v;
+            let (k_max, k_min, t) = symmetric_eigen_2x2(u.dot(&su), u.dot(&sv), v.dot(&sv));
+            let dir_max = u * t[0] + v * t[1];
+            let dir_min = v * t[0] - u * t[1];
+            (k_max, k_min, dir_max, dir_min)
+        }
+        PrincipalSelection::LargestMagnitude => {
+            let eigen = SymmetricEigen::new(*operator);
+            let mut order = [0usize, 1, 2];
+            order.sort_by(|&i, &j| {
+                eigen.eigenvalues[j]
+                    .abs()
+                    .total_cmp(&eigen.eigenvalues[i].abs())
+            });
+            let (i, j) = if eigen.eigenvalues[order[0]] >= eigen.eigenvalues[order[1]] {
+                (order[0], order[1])
+            } else {
+                (order[1], order[0])
+            };
+            let column = |k: usize| -> Vec3 {
+                eigen
+                    .eigenvectors
+                    .column(k)
+                    .into_owned()
+                    .try_normalize(0.0)
+                    .unwrap_or_else(Vec3::x)
+            };
+            (
+                eigen.eigenvalues[i],
+                eigen.eigenvalues[j],
+                column(i),
+                column(j),
+            )
+        }
+    }
+}
+
+/// Principal curvatures, directions and extremalities of every vertex by the discrete shape
+/// operator (HPW sec. 3) and the discrete extremalities (HPW eq. 4); see the module docs for
+/// the conventions, the boundary treatment and the fallbacks. Runs in parallel.
+pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvature {
+    let (face_normals, face_areas) = face_normals_and_areas(mesh);
+    let vertex_normals = area_weighted_normals(mesh, &face_normals, &face_areas);
+    let edges = all_edge_operators(mesh, &face_normals);
+    let topo = mesh.topology();
+    let point = |v: u32| point_operator(mesh, &edges, &face_areas, &vertex_normals, v);
+
+    let (mut curvature, _) = collect_estimates(
+        mesh.num_vertices(),
+        || (),
+        |_, v| {
+            let normal = vertex_normals[v as usize];
+            let operator =
+                if options.boundary_from_interior && topo.vertex_kind(v) == VertexKind::Boundary {
+                    interior_mean(mesh, &face_areas, &point, v).or_else(|| point(v))
+                } else {
+                    point(v)
+                };
+            let Some(operator) = operator else {
+                return VertexEstimate::fallback(normal);
+            };
+            let (k_max, k_min, dir_max, dir_min) =
+                principal_curvatures(&operator, normal, options.selection);
+            VertexEstimate {
+                k_max,
+                k_min,
+                dir_max,
+                dir_min,
+                e_max: 0.0,
+                e_min: 0.0,
+                normal,
+                fallback: false,
+            }
+            .sanitized()
+        },
+    );
+    let (e_max, e_min) = extremalities_with(mesh, &face_normals, &face_areas, &curvature);
+    curvature.e_max = e_max;
+    curvature.e_min = e_min;
+    curvature
+}
+
+/// Star-area-weighted mean of the point operators of the interior neighbours of `v`.
+fn interior_mean(
+    mesh: &TriMesh,
+    face_areas: &[f64],
+    point: &impl Fn(u32) -> Option<Matrix3>,
+    v: u32,
+) -> Option<Matrix3> {
+    let topo = mesh.topology();
+    let mut sum = Matrix3::zeros();
+    let mut weight = 0.0;
+    for q in topo.neighbors(v) {
+        if topo.vertex_kind(q) != VertexKind::Interior {
+            continue;
+        }
+        if let Some(op) = point(q) {
+            let w: f64 = topo
+                .vertex_faces(q)
+                .iter()
+                .map(|&f| face_areas[f as usize])
+                .sum();
+            sum += op * w;
+            weight += w;
+        }
+    }
+    (weight > 0.0).then(|| sum / weight)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn convex_roof_edge_has_positive_mean_curvature() {
+        // Roof ridge along x: face 1 = (a, b, c) slopes down towards +y, face 2 = (b, a, d)
+        // towards −y. Outward normals (0, ±s, 1)/|·|; the edge is convex.
+        let s: f64 = 0.5;
+        let (a, b) = (Vec3::zeros(), Vec3::new(2.0, 0.0, 0.0));
+        let n1 = Vec3::new(0.0, s, 1.0).normalize();
+        let n2 = Vec3::new(0.0, -s, 1.0).normalize();
+        let op = edge_shape_operator(a, b, n1, n2).unwrap();
+        // β = 2 atan(s); H = 2|e| sin(β/2) = 2 · 2 · s/√(1+s²).
+        let expected = 4.0 * s / (1.0 + s * s).sqrt();
+        assert!((op.mean_curvature - expected).abs() < 1e-14);
+        assert!((op.normal - Vec3::z()).norm() < 1e-14);
+        assert!(op.across.dot(&Vec3::y()).abs() > 1.0 - 1e-14);
+        // Same edge seen from the other face: same operator.
+        let back = edge_shape_operator(b, a, n2, n1).unwrap();
+        assert!((back.matrix() - op.matrix()).norm() < 1e-14);
+        // Valley: flip the normals' tilt.
+        let valley = edge_shape_operator(a, b, n2, n1).unwrap();
+        assert!((valley.mean_curvature + expected).abs() < 1e-14);
+        // Flat and folded edges.
+        let flat = edge_shape_operator(a, b, Vec3::z(), Vec3::z()).unwrap();
+        assert_eq!(flat.mean_curvature, 0.0);
+        assert!(edge_shape_operator(a, b, Vec3::z(), -Vec3::z()).is_none());
+        assert!(edge_shape_operator(a, a, Vec3::z(), Vec3::z()).is_none());
+    }
+
+    #[test]
+    fn octahedron_vertex_value_is_exactly_one() {
+        // Regular octahedron, vertices ±e_i. At the apex e_z, the edge to e_x has length √2,
+        // faces of normals (1, ±1, 1)/√3, so cos β = 1/3, sin(β/2) = 1/√3 and
+        // H_e = 2√2/√3; N_e = (1, 0, 1)/√2, ⟨N_p, N_e⟩ = 1/√2; ê × N_e = ∓e_y. Each of the
+        // four edges adds ½ · 1/√2 · 2√2/√3 = 1/√3 times w wᵀ (w = e_y for the edges to ±e_x,
+        // e_x for the edges to ±e_y): S(p) = 2/√3 (e_x e_xᵀ + e_y e_yᵀ). The star is four
+        // equilateral triangles of side √2, area 4 · √3/2 = 2√3, so the point value is
+        // 3/(2√3) · 2/√3 = 1 in both directions.
+        let m = TriMesh::from_arrays(
+            vec![
+                [1.0, 0.0, 0.0],
+                [-1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, -1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [0.0, 0.0, -1.0],
+            ],
+            vec![
+                [0, 2, 4],
+                [2, 1, 4],
+                [1, 3, 4],
+                [3, 0, 4],
+                [2, 0, 5],
+                [1, 2, 5],
+                [3, 1, 5],
+                [0, 3, 5],
+            ],
+        )
+        .unwrap();
+        let c = shape_operator(&m, &ShapeOperatorOptions::DEFAULT);
+        assert_eq!(c.fallback_vertices, 0);
+        for v in 0..6 {
+            assert!((c.k_max[v] - 1.0).abs() < 1e-12, "{}", c.k_max[v]);
+            assert!((c.k_min[v] - 1.0).abs() < 1e-12, "{}", c.k_min[v]);
+            assert!(c.dir_max[v].dot(&c.normals[v]).abs() < 1e-12);
+        }
+    }
+}

@@ -1,0 +1,369 @@
+//! The feature-line pipelines, start to finish.
+//!
+//! [`extract`] runs the public steps of the chosen [`Method`] in order and nothing else:
+//!
+//! **HPW** (Hildebrandt, Polthier, Wardetzky 2005, Table 1):
+//! 1. optional surface pre-smoothing ([`crate::smoothing::surface`]),
+//! 2. discrete extremalities from the shape operator ([`crate::curvature`]),
+//! 3. sign-aware extremality smoothing ([`crate::smoothing::extremality`]),
+//! 4. tracing in regular triangles ([`crate::lines::trace`]),
+//! 5. singular triangles ([`crate::lines::singular`]),
+//! 6. polylines and threshold filtering ([`crate::lines::assemble`], [`crate::lines::filter`]),
+//! 7. optional spatial fairing ([`crate::lines::fair`]).
+//!
+//! **YBS** (Yoshizawa, Belyaev, Seidel 2005): the enhanced cubic fit for curvature and
+//! extremalities, edge-based tracing with gap jumping ([`crate::lines::trace_crest_lines`]),
+//! filtering by the strength T.
+//!
+//! **Saliency** (Mao, Wang, Zhou): curvature by the cubic fit, mesh saliency
+//! ([`crate::saliency`]), an automatic threshold on it ([`crate::threshold`]) and the linking
+//! rules ([`crate::lines::link`]).
+//!
+//! `auto_threshold` applies the same knee search to the strengths of the traced lines (HPW,
+//! YBS) and to the saliency (Saliency). When the strengths have no knee, HPW and YBS fall back
+//! to their fixed default (all lines alike may be all features — the 12 edges of a cube — or
+//! all noise); the saliency method keeps no point, since a flat saliency curve means a shape
+//! without salient parts (a sphere, a torus).
+
+use std::time::{Duration, Instant};
+
+use crate::curvature::{self, Curvature, CurvatureOptions, Estimator};
+use crate::error::Result;
+use crate::lines::fair::{Fairing, fair_lines};
+use crate::lines::filter::{LineFilter, StrengthMeasure, filter_lines};
+use crate::lines::gap::GapJumping;
+use crate::lines::link::{LinkOptions, link_feature_points};
+use crate::lines::{FeatureLines, LineKind, TraceReport, trace_crest_lines, trace_lines};
+use crate::mesh::TriMesh;
+use crate::saliency::{SaliencyOptions, mesh_saliency};
+use crate::smoothing::extremality::{ExtremalitySmoothing, smooth_extremalities};
+use crate::smoothing::surface::{SurfaceSmoothing, smooth_surface};
+use crate::threshold::{KneeSearch, seek_threshold};
+
+/// Which paper's pipeline runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Hildebrandt–Polthier–Wardetzky: shape operator, extremality smoothing.
+    #[default]
+    Hpw,
+    /// Yoshizawa–Belyaev–Seidel: enhanced cubic fitting, strength T.
+    Ybs,
+    /// Mao–Wang–Zhou: mesh saliency with an automatic threshold, linked feature points.
+    Saliency,
+}
+
+/// Options of [`extract`]. Every field has a documented default; [`ExtractOptions::for_method`]
+/// gives the defaults of each method.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExtractOptions {
+    /// The pipeline. Default: [`Method::Hpw`].
+    pub method: Method,
+    /// Step 1: surface pre-smoothing. Default: off (0 steps).
+    pub pre_smoothing: SurfaceSmoothing,
+    /// Curvature estimation; the estimator is set by the method (shape operator for HPW,
+    /// cubic fit for YBS). Default: [`CurvatureOptions::default`].
+    pub curvature: CurvatureOptions,
+    /// Step 3: extremality smoothing. Default (HPW): 3 steps of size 1 (relative);
+    /// (YBS): none, the paper does not smooth extremalities.
+    pub smoothing: ExtremalitySmoothing,
+    /// Step 6: thresholds. Default (HPW): T ≥ [`HPW_DEFAULT_THRESHOLD`], length ≥ 1% of the
+    /// diagonal; (YBS): T ≥ [`YBS_DEFAULT_THRESHOLD`], length ≥ 1%. HPW filter with the
+    /// curvature integral of Ohtake et al.; that measure cannot tell spurious lines on Dupin
+    /// cyclides (a torus: ∫|k| ds is large along any line there) from crest lines, while T,
+    /// built on the cyclideness, is ≈ 0 on them — so T is the default for both methods.
+    pub filter: LineFilter,
+    /// Step 7: spatial fairing. Default: off.
+    pub fairing: Fairing,
+    /// Gap jumping (YBS only); `None` turns it off. Default: YBS's angles.
+    pub gaps: Option<GapJumping>,
+    /// Saliency options (Saliency only). Default: [`SaliencyOptions::default`].
+    pub saliency: SaliencyOptions,
+    /// Feature-point linking (Saliency only). Default: [`LinkOptions::default`].
+    pub link: LinkOptions,
+    /// Choose the threshold by the knee search instead of `filter.threshold`.
+    /// Default: false for HPW and YBS, true for Saliency.
+    pub auto_threshold: bool,
+    /// The knee search. Default: the paper's parameters.
+    pub knee: KneeSearch,
+}
+
+/// Default threshold of the HPW pipeline on T (dimensionless). Measured: spurious lines on a
+/// torus have T ≈ 0.01, the ellipsoid's crest line T ≈ 40, fandisk's creases T ≈ 2 to 13.
+pub const HPW_DEFAULT_THRESHOLD: f64 = 1.0;
+/// Default threshold of the YBS pipeline on T (dimensionless, as in the paper's figures).
+pub const YBS_DEFAULT_THRESHOLD: f64 = 1.0;
+/// Default minimum line length, as a fraction of the bounding-box diagonal.
+pub const DEFAULT_MIN_LENGTH: f64 = 0.01;
+
+impl ExtractOptions {
+    /// The defaults of a method.
+    pub fn for_method(method: Method) -> Self {
+        match method {
+            Method::Hpw => ExtractOptions {
+                method,
+                pre_smoothing: SurfaceSmoothing::default(),
+                curvature: CurvatureOptions::default().with_estimator(Estimator::ShapeOperator),
+                smoothing: ExtremalitySmoothing::default(),
+                filter: LineFilter {
+                    measure: StrengthMeasure::Cyclideness,
+                    threshold: HPW_DEFAULT_THRESHOLD,
+                    min_length: DEFAULT_MIN_LENGTH,
+                },
+                fairing: Fairing::default(),
+                gaps: Some(GapJumping::default()),
+                saliency: SaliencyOptions::default(),
+                link: LinkOptions::default(),
+                auto_threshold: false,
+                knee: KneeSearch::default(),
+            },
+            Method::Ybs => ExtractOptions {
+                method,
+                pre_smoothing: SurfaceSmoothing::default(),
+                curvature: CurvatureOptions::default().with_estimator(Estimator::CubicFit),
+                smoothing: ExtremalitySmoothing {
+                    steps: 0,
+                    ..Default::default()
+                },
+                filter: LineFilter {
+                    measure: StrengthMeasure::Cyclideness,
+                    threshold: YBS_DEFAULT_THRESHOLD,
+                    min_length: DEFAULT_MIN_LENGTH,
+                },
+                fairing: Fairing::default(),
+                gaps: Some(GapJumping::default()),
+                saliency: SaliencyOptions::default(),
+                link: LinkOptions::default(),
+                auto_threshold: false,
+                knee: KneeSearch::default(),
+            },
+            Method::Saliency => ExtractOptions {
+                auto_threshold: true,
+                filter: LineFilter {
+                    measure: StrengthMeasure::CurvatureIntegral,
+                    threshold: 0.0,
+                    min_length: DEFAULT_MIN_LENGTH,
+                },
+                ..Self::for_method(Method::Ybs)
+            }
+            .with_method(Method::Saliency),
+        }
+    }
+
+    fn with_method(mut self, method: Method) -> Self {
+        self.method = method;
+        self
+    }
+}
+
+impl Default for ExtractOptions {
+    fn default() -> Self {
+        Self::for_method(Method::Hpw)
+    }
+}
+
+/// The named stages, for progress reports and timings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Stage {
+    /// Step 1.
+    PreSmoothing,
+    /// Step 2 (curvature and extremalities).
+    Curvature,
+    /// Step 3.
+    ExtremalitySmoothing,
+    /// Steps 4–6 before filtering (for Saliency: saliency and linking).
+    Tracing,
+    /// Step 6.
+    Filtering,
+    /// Step 7.
+    Fairing,
+}
+
+impl Stage {
+    /// A short human-readable name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::PreSmoothing => "pre-smoothing",
+            Stage::Curvature => "curvature",
+            Stage::ExtremalitySmoothing => "extremality smoothing",
+            Stage::Tracing => "tracing",
+            Stage::Filtering => "filtering",
+            Stage::Fairing => "fairing",
+        }
+    }
+}
+
+/// Figures about one run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ExtractStats {
+    /// Triangles of the mesh.
+    pub triangles: usize,
+    /// Tracing figures (singular triangles per family and cases).
+    pub trace: TraceReport,
+    /// Vertices whose curvature needed a fallback.
+    pub fallback_vertices: usize,
+    /// Lines before filtering.
+    pub lines_traced: usize,
+    /// Lines kept.
+    pub lines: usize,
+    /// Ridges kept.
+    pub ridges: usize,
+    /// Valleys kept.
+    pub valleys: usize,
+    /// Total length of the lines kept.
+    pub total_length: f64,
+    /// The strength threshold applied (for Saliency: the saliency threshold).
+    pub threshold: f64,
+    /// True when the threshold came from the knee search.
+    pub threshold_is_auto: bool,
+    /// Gaps jumped (YBS).
+    pub gaps_jumped: usize,
+    /// Wall time of each stage that ran, in order.
+    pub stage_times: Vec<(Stage, Duration)>,
+}
+
+/// The result of [`extract`].
+#[derive(Debug, Clone)]
+pub struct Extraction {
+    /// The lines kept.
+    pub lines: FeatureLines,
+    /// Curvature fields after extremality smoothing (on the pre-smoothed surface, if any).
+    pub curvature: Curvature,
+    /// Figures about the run.
+    pub stats: ExtractStats,
+}
+
+/// Finds the feature lines of `mesh` with default progress reporting (none).
+///
+/// # Errors
+/// Invalid options, or a solver failure in a smoothing step.
+pub fn extract(mesh: &TriMesh, options: &ExtractOptions) -> Result<Extraction> {
+    extract_with_progress(mesh, options, &mut |_, _| {})
+}
+
+/// [`extract`], calling `progress(stage, None)` when a stage starts and
+/// `progress(stage, Some(elapsed))` when it ends.
+///
+/// # Errors
+/// As [`extract`].
+pub fn extract_with_progress(
+    mesh: &TriMesh,
+    options: &ExtractOptions,
+    progress: &mut dyn FnMut(Stage, Option<Duration>),
+) -> Result<Extraction> {
+    let mut stats = ExtractStats {
+        triangles: mesh.num_faces(),
+        ..Default::default()
+    };
+    let mut clock = StageClock {
+        progress,
+        times: Vec::new(),
+    };
+
+    let smoothed;
+    let surface = if options.pre_smoothing.steps > 0 {
+        let t = clock.begin(Stage::PreSmoothing);
+        smoothed = smooth_surface(mesh, &options.pre_smoothing)?;
+        clock.end(Stage::PreSmoothing, t);
+        &smoothed
+    } else {
+        mesh
+    };
+
+    let t = clock.begin(Stage::Curvature);
+    let mut curvature = curvature::estimate(surface, &options.curvature)?;
+    stats.fallback_vertices = curvature.fallback_vertices;
+    clock.end(Stage::Curvature, t);
+
+    if options.smoothing.steps > 0 {
+        let t = clock.begin(Stage::ExtremalitySmoothing);
+        smooth_extremalities(surface, &mut curvature, &options.smoothing)?;
+        clock.end(Stage::ExtremalitySmoothing, t);
+    }
+
+    let t = clock.begin(Stage::Tracing);
+    let diagonal = mesh.bounding_box().diagonal();
+    let mut filter = options.filter;
+    let traced = match options.method {
+        Method::Hpw => {
+            let (traced, report) = trace_lines(surface, &curvature);
+            stats.trace = report;
+            traced
+        }
+        Method::Ybs => {
+            let (traced, joins) = trace_crest_lines(surface, &curvature, options.gaps.as_ref());
+            stats.gaps_jumped = joins;
+            traced
+        }
+        Method::Saliency => {
+            let saliency = mesh_saliency(surface, &curvature, &options.saliency)?;
+            let threshold = if options.auto_threshold {
+                stats.threshold_is_auto = true;
+                seek_threshold(&saliency.saliency, &options.knee).unwrap_or(f64::INFINITY)
+            } else {
+                options.filter.threshold
+            };
+            stats.threshold = threshold;
+            // The threshold applies to points here; lines are only filtered by length.
+            filter.threshold = f64::NEG_INFINITY;
+            link_feature_points(
+                surface,
+                &curvature,
+                &saliency.saliency,
+                threshold,
+                &options.link,
+            )
+        }
+    };
+    stats.lines_traced = traced.lines.len();
+    clock.end(Stage::Tracing, t);
+
+    let t = clock.begin(Stage::Filtering);
+    if options.method != Method::Saliency {
+        if options.auto_threshold {
+            let strengths: Vec<f64> = traced.lines.iter().map(|l| filter.measure.of(l)).collect();
+            if let Some(knee) = seek_threshold(&strengths, &options.knee) {
+                filter.threshold = knee;
+                stats.threshold_is_auto = true;
+            }
+        }
+        stats.threshold = filter.threshold;
+    }
+    let mut lines = filter_lines(traced, &filter, diagonal);
+    clock.end(Stage::Filtering, t);
+
+    if options.fairing.tolerance > 0.0 {
+        let t = clock.begin(Stage::Fairing);
+        fair_lines(&mut lines, &options.fairing);
+        clock.end(Stage::Fairing, t);
+    }
+    stats.stage_times = clock.times;
+
+    stats.lines = lines.lines.len();
+    stats.ridges = lines.of_kind(LineKind::Ridge).count();
+    stats.valleys = lines.of_kind(LineKind::Valley).count();
+    stats.total_length = lines.total_length();
+    Ok(Extraction {
+        lines,
+        curvature,
+        stats,
+    })
+}
+
+/// Reports stage starts and ends and keeps the timings.
+struct StageClock<'a> {
+    progress: &'a mut dyn FnMut(Stage, Option<Duration>),
+    times: Vec<(Stage, Duration)>,
+}
+
+impl StageClock<'_> {
+    fn begin(&mut self, stage: Stage) -> Instant {
+        (self.progress)(stage, None);
+        Instant::now()
+    }
+
+    fn end(&mut self, stage: Stage, start: Instant) {
+        let elapsed = start.elapsed();
+        self.times.push((stage, elapsed));
+        (self.progress)(stage, Some(elapsed));
+    }
+}
