@@ -19,6 +19,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Per-vertex curvature, directions and extremalities as PLY vertex properties or CSV.
+    Curvature(cmd::curvature::Args),
     /// Find ridges and valleys and write them as polylines (OBJ, PLY or JSON).
     Extract(Box<cmd::extract::Args>),
     /// Print counts and health figures of a mesh.
@@ -36,6 +38,7 @@ enum Command {
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Curvature(args) => cmd::curvature::run(args),
         Command::Extract(args) => cmd::extract::run(*args),
         Command::Info(args) => cmd::info::run(args),
         Command::Render(args) => cmd::render::run(args),

@@ -1,5 +1,6 @@
 //! Accuracy of both curvature estimators on the analytic shapes, against the exact values of
-//! `crestline::shapes::exact`, printed as the markdown tables of `BENCHMARKS.md`.
+//! `crestline::shapes::exact`, and the singular-triangle statistics (HPW Definition 1) of real
+//! meshes next to HPW's Table 2, printed as the markdown tables of `BENCHMARKS.md`.
 //!
 //! ```sh
 //! cargo run --release -p crestline --example curvature_accuracy
@@ -32,35 +33,36 @@ struct Case {
     min_gap: f64,
 }
 
-fn estimators() -> Vec<(&'static str, Box<dyn Fn(&TriMesh) -> Curvature>)> {
+/// One estimator configuration.
+type Estimate = Box<dyn Fn(&TriMesh) -> crestline::Result<Curvature>>;
+
+fn estimators() -> Vec<(&'static str, Estimate)> {
     vec![
         (
             "shape operator",
-            Box::new(|m: &TriMesh| shape_operator(m, &ShapeOperatorOptions::DEFAULT)),
+            Box::new(|m: &TriMesh| Ok(shape_operator(m, &ShapeOperatorOptions::DEFAULT))),
         ),
         (
             "shape operator (3×3 largest |λ|)",
             Box::new(|m: &TriMesh| {
-                shape_operator(
+                Ok(shape_operator(
                     m,
                     &ShapeOperatorOptions::DEFAULT
                         .with_selection(PrincipalSelection::LargestMagnitude),
-                )
+                ))
             }),
         ),
         (
             "cubic fit k=1",
-            Box::new(|m: &TriMesh| cubic_fit(m, &CubicFitOptions::DEFAULT).unwrap()),
+            Box::new(|m: &TriMesh| cubic_fit(m, &CubicFitOptions::DEFAULT)),
         ),
         (
             "cubic fit k=1, no p→p'",
-            Box::new(|m: &TriMesh| {
-                cubic_fit(m, &CubicFitOptions::DEFAULT.with_presmooth(false)).unwrap()
-            }),
+            Box::new(|m: &TriMesh| cubic_fit(m, &CubicFitOptions::DEFAULT.with_presmooth(false))),
         ),
         (
             "cubic fit k=2",
-            Box::new(|m: &TriMesh| cubic_fit(m, &CubicFitOptions::DEFAULT.with_rings(2)).unwrap()),
+            Box::new(|m: &TriMesh| cubic_fit(m, &CubicFitOptions::DEFAULT.with_rings(2))),
         ),
     ]
 }
@@ -152,7 +154,68 @@ fn cases() -> Vec<Case> {
     cases
 }
 
-fn main() {
+/// HPW Table 2: singular triangles of the raw and the smoothed bunny.
+fn singular_triangles() -> crestline::Result<()> {
+    use crestline::extremality::triangle_regularity;
+    use crestline::smoothing::surface::{SurfaceSmoothing, smooth_surface};
+    let dir =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
+    println!("| mesh | faces | estimator | singular (max) | singular (min) | singular (either) |");
+    println!("| --- | --- | --- | --- | --- | --- |");
+    for name in ["stanford-bunny.obj", "igea.ply", "fandisk.obj"] {
+        let mesh = match crestline::io::read_mesh(&dir.join(name), None) {
+            Ok(m) => m,
+            Err(e) => {
+                eprintln!("skipping {name}: {e}");
+                continue;
+            }
+        };
+        let mut variants = vec![(name.to_string(), mesh.clone())];
+        if name == "stanford-bunny.obj" {
+            for steps in [1, 3] {
+                let options = SurfaceSmoothing {
+                    steps,
+                    ..Default::default()
+                };
+                if let Ok(m) = smooth_surface(&mesh, &options) {
+                    variants.push((format!("{name}, {steps} mean-curvature-flow steps"), m));
+                }
+            }
+        }
+        for (label, m) in variants {
+            let literal =
+                ShapeOperatorOptions::DEFAULT.with_selection(PrincipalSelection::LargestMagnitude);
+            for (estimator, c) in [
+                (
+                    "shape operator",
+                    shape_operator(&m, &ShapeOperatorOptions::DEFAULT),
+                ),
+                (
+                    "shape operator (3×3 largest |λ|)",
+                    shape_operator(&m, &literal),
+                ),
+                ("cubic fit k=1", cubic_fit(&m, &CubicFitOptions::DEFAULT)?),
+            ] {
+                let r = triangle_regularity(&m, &c);
+                println!(
+                    "| {label} | {} | {estimator} | {} ({:.2}%) | {} ({:.2}%) | {} ({:.2}%) |",
+                    m.num_faces(),
+                    r.singular_max,
+                    100.0 * r.singular_max_fraction(),
+                    r.singular_min,
+                    100.0 * r.singular_min_fraction(),
+                    r.singular_either,
+                    100.0 * r.singular_either_fraction()
+                );
+            }
+        }
+    }
+    println!();
+    Ok(())
+}
+
+fn main() -> crestline::Result<()> {
+    singular_triangles()?;
     println!(
         "| shape | estimator | k_max max / rms | k_min max / rms | e_max max / rms | e_min max / rms | dir_max ° max / rms | dir_min ° max / rms | fallback |"
     );
@@ -160,7 +223,7 @@ fn main() {
     for case in cases() {
         let dist = exact::rings_from_boundary(&case.mesh);
         for (name, estimate) in estimators() {
-            let c = estimate(&case.mesh);
+            let c = estimate(&case.mesh)?;
             let all = exact::compare(
                 &case.mesh,
                 &c,
@@ -216,4 +279,5 @@ fn main() {
             }
         }
     }
+    Ok(())
 }

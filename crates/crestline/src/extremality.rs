@@ -76,7 +76,7 @@ pub(crate) fn extremalities_with(
                 g_min += b;
                 star += face_areas[f as usize];
             }
-            if !(star > 0.0) {
+            if star.is_nan() || star <= 0.0 {
                 return (0.0, 0.0);
             }
             let (d_max, d_min) = (curvature.dir_max[v as usize], curvature.dir_min[v as usize]);

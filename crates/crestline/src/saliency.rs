@@ -190,6 +190,20 @@ mod tests {
     }
 
     #[test]
+    fn sphere_saliency_is_uniform() {
+        let mesh = shapes::icosphere(2.0, 3);
+        let c = estimate(&mesh, &CurvatureOptions::default()).unwrap();
+        let s = mesh_saliency(&mesh, &c, &SaliencyOptions::default()).unwrap();
+        let max = s.saliency.iter().cloned().fold(f64::MIN, f64::max);
+        let min = s.saliency.iter().cloned().fold(f64::MAX, f64::min);
+        // The HPW shape operator keeps a ≈15% error at the icosphere's 12 valence-5 vertices
+        // (measured saliency 0.200 .. 0.233; k = 0.428 at vertex 0, one of them), hence 20%
+        // rather than 10% (see the curvature section of BENCHMARKS.md).
+        assert!((max - min) < 0.2 * max, "{min} .. {max}");
+        assert!((s.curv[0] - 0.5).abs() < 0.1, "{}", s.curv[0]);
+    }
+
+    #[test]
     fn rejects_bad_options() {
         let mesh = shapes::icosphere(1.0, 1);
         let c = Curvature {

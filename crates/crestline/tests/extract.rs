@@ -10,6 +10,8 @@
 //! k_max *minimum* (at the poles). Valleys need k_min < 0: none on a convex surface. So the
 //! only crest line is the equator ellipse x²/a² + y²/b² = 1, z = 0.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use crestline::extract::{ExtractOptions, Method, extract};
 use crestline::lines::{FeatureLines, LineKind};
 use crestline::{TriMesh, Vec3, shapes};

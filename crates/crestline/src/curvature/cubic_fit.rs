@@ -232,6 +232,8 @@ struct NormalEquations<const N: usize> {
     atb: [f64; N],
 }
 
+// Index loops mirror the textbook recurrences (rank-1 update, Cholesky, substitutions).
+#[allow(clippy::needless_range_loop)]
 impl<const N: usize> NormalEquations<N> {
     fn new() -> Self {
         NormalEquations {
@@ -266,7 +268,7 @@ impl<const N: usize> NormalEquations<N> {
             for k in 0..i {
                 d -= u[k][i] * u[k][i];
             }
-            if !(d > 0.0) {
+            if d.is_nan() || d <= 0.0 {
                 return None;
             }
             let d = d.sqrt();
@@ -281,7 +283,7 @@ impl<const N: usize> NormalEquations<N> {
                 u[i][j] = x / d;
             }
         }
-        if !(lo > MIN_PIVOT_RATIO * hi) {
+        if lo.is_nan() || lo <= MIN_PIVOT_RATIO * hi {
             return None;
         }
         // Uᵀ y = b, then U x = y.
@@ -464,7 +466,7 @@ pub fn cubic_fit(mesh: &TriMesh, options: &CubicFitOptions) -> Result<Curvature>
     };
     let normals = vertex_normals_max(fitted);
     let max_rings = options.rings.max(options.max_rings);
-    let (mut curvature, fallback) =
+    let (mut curvature, mut fallback) =
         collect_estimates(mesh.num_vertices(), Scratch::default, |scratch, v| {
             fit_vertex(fitted, &normals, v, options.rings, max_rings, scratch).sanitized()
         });
@@ -479,7 +481,9 @@ pub fn cubic_fit(mesh: &TriMesh, options: &CubicFitOptions) -> Result<Curvature>
             .collect();
         for (v, estimate) in borrowed {
             estimate.store(&mut curvature, v);
+            fallback[v] = false;
         }
+        curvature.fallback_vertices = fallback.iter().filter(|&&f| f).count();
     }
     Ok(curvature)
 }
@@ -528,7 +532,8 @@ fn borrow_from_interior(
             e_max: e_max / count as f64,
             e_min: e_min / count as f64,
             normal: n,
-            fallback: fallback[v as usize],
+            // Borrowed values are estimates, not fallbacks (as for the shape operator).
+            fallback: false,
         }
         .sanitized(),
     )
@@ -584,7 +589,7 @@ fn collect_samples(
     for &q in &scratch.ring {
         let nq = normals[q as usize];
         let c = nq.dot(&n);
-        if !(c > 0.0) {
+        if c.is_nan() || c <= 0.0 {
             continue;
         }
         let d = mesh.position(q) - origin;

@@ -42,10 +42,20 @@
 //! or a vertex of zero star area gets the fallback value (k = 0, e = 0, an arbitrary tangent
 //! frame) and is counted in [`Curvature::fallback_vertices`].
 //!
-//! **Known limits.** The operator converges in an integrated (measure) sense; its point
-//! values converge under refinement on regular (e.g. subdivided or grid) meshes but not
-//! pointwise on arbitrary irregular meshes, and the eq. 4 extremalities, which differentiate
-//! them once more, amplify that. Extremalities are computed by [`crate::extremality`].
+//! **Known limits** (measured; see the "Curvature" section of `BENCHMARKS.md`). The operator
+//! converges in an integrated (measure) sense; its point values converge (like O(h²)) on
+//! translation-invariant valence-6 meshes, e.g. [`crate::shapes::GridPattern::Uniform`] grids,
+//! where the cylinder comes out exact. They do not converge pointwise elsewhere:
+//! - on checkerboard grids (quads split along alternating diagonals, valence 4 and 8 — the
+//!   default pattern of [`crate::shapes::torus`], `cylinder` and `height_field`) every vertex
+//!   sees the same bending but its star is 4 or 8 triangles: on a cylinder the point value
+//!   is exactly 1.5/r at valence 4 and 0.75/r at valence 8;
+//! - at the 12 valence-5 vertices of an icosphere k stays ≈ 15% low at every subdivision
+//!   level (the rms error still halves with each level).
+//!
+//! The eq. 4 extremalities differentiate these point values once more, so their errors
+//! grow like 1/h wherever the point values do not converge (HPW answer this with
+//! extremality smoothing, sec. 5.1).
 
 use nalgebra::SymmetricEigen;
 use rayon::prelude::*;
@@ -141,7 +151,8 @@ pub fn edge_shape_operator(a: Vec3, b: Vec3, n1: Vec3, n2: Vec3) -> Option<EdgeS
     let sum_norm = sum.norm();
     // |N₁ + N₂| = 2 cos(β/2): below ~1e-6 the faces are folded back to within a micro-radian
     // and N_e is noise.
-    if !(length > 0.0) || !(sum_norm > 1e-6) || n1 == Vec3::zeros() || n2 == Vec3::zeros() {
+    let degenerate = length.is_nan() || length <= 0.0 || sum_norm.is_nan() || sum_norm <= 1e-6;
+    if degenerate || n1 == Vec3::zeros() || n2 == Vec3::zeros() {
         return None;
     }
     let e_hat = edge / length;
@@ -305,7 +316,7 @@ fn point_operator(
         .map(|&f| face_areas[f as usize])
         .sum();
     let normal = vertex_normals[v as usize];
-    if !(star > 0.0) || normal == Vec3::zeros() {
+    if star.is_nan() || star <= 0.0 || normal == Vec3::zeros() {
         return None;
     }
     let (s, used) = integrated_operator(mesh, edges, normal, v);

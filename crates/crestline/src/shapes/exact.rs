@@ -203,7 +203,8 @@ impl ErrorStat {
     }
 }
 
-/// How far an estimated [`Curvature`] is from the exact values, over selected vertices.
+/// How far an estimated [`Curvature`](crate::curvature::Curvature) is from the exact values,
+/// over selected vertices.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct CurvatureErrors {
     /// `|k_max − exact|`.

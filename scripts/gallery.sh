@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Regenerates the README gallery (docs/gallery/*.png) from the shared meshes.
+# Usage: scripts/gallery.sh [MESH_DIR]   (default: ../shared/data/meshes beside the repository)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+meshes=${1:-../shared/data/meshes}
+out=docs/gallery
+mkdir -p "$out"
+cargo build --release -q -p crestline-cli
+bin=target/release/crestline
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# name  mesh  method  view  extra extract options
+while read -r name mesh method view extra; do
+  "$bin" extract "$meshes/$mesh" --method "$method" -o "$tmp/$name.obj" -q $extra
+  "$bin" render "$meshes/$mesh" --lines "$tmp/$name.obj" -o "$out/$name.png" --size 640 --view "$view"
+done <<'LIST'
+fandisk-ybs   fandisk.obj         ybs  30,20   --rings=1
+bunny-hpw     stanford-bunny.obj  hpw  30,20   --smooth-steps=3
+igea-hpw      igea.ply            hpw  20,10   --smooth-steps=3
+rocker-ybs    rocker-arm.obj      ybs  30,30   --rings=2
+LIST
+echo "gallery written to $out"
