@@ -3,9 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::ValueEnum;
 use crestline::TriMesh;
+use crestline::extract::{ExtractOptions, extract};
 use crestline::io::Format;
 use crestline::lines::FeatureLines;
 
@@ -58,18 +59,21 @@ pub fn load_mesh(path: Option<&PathBuf>, format: Option<FormatArg>) -> Result<(T
 }
 
 /// The feature lines that guide `distance` and `simplify`: read from `path` (an OBJ with `l`
-/// polylines, as `crestline` writes them) when given.
-///
-/// PENDING(extract): without `--lines`, the lines should be extracted from the mesh with the
-/// default method, but the library has no one-call extraction (`extract(&mesh, &Options)`)
-/// yet; until it lands this asks for `--lines` instead.
-pub fn load_lines(path: Option<&PathBuf>) -> Result<FeatureLines> {
+/// polylines, as `crestline extract` writes them) when given, otherwise extracted from `mesh`
+/// with the default method (and said so on stderr).
+pub fn load_lines(path: Option<&PathBuf>, mesh: &TriMesh) -> Result<FeatureLines> {
     match path {
         // Reading errors already name the file and line.
         Some(p) => Ok(crestline::io::lines::read_lines_obj(p).context("cannot load the lines")?),
-        None => bail!(
-            "no --lines given, and extracting lines from the mesh is not available in this build \
-             yet: pass the lines as an OBJ file with --lines (or use --eta 0 with simplify)"
-        ),
+        None => {
+            let options = ExtractOptions::default();
+            eprintln!(
+                "no --lines given: extracting them with the default method ({:?})",
+                options.method
+            );
+            Ok(extract(mesh, &options)
+                .context("cannot extract the lines")?
+                .lines)
+        }
     }
 }

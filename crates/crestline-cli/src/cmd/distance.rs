@@ -21,7 +21,8 @@ pub struct Args {
     /// reaches (other components) get the largest distance found.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Feature lines as an OBJ file with `l` polylines.
+    /// Feature lines as an OBJ file with `l` polylines. Without it they are extracted from
+    /// the mesh with the default method (as `crestline extract` does).
     #[arg(long)]
     pub lines: Option<PathBuf>,
     /// Propagate along edges only (plain Dijkstra, which overestimates) instead of also
@@ -42,7 +43,7 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
-    let lines = load_lines(args.lines.as_ref())?;
+    let lines = load_lines(args.lines.as_ref(), &mesh)?;
     let options = DistanceOptions::default().with_relax_across_triangles(!args.edges_only);
     let distance = feature_distance(&mesh, &lines, &options)?;
     // PLY readers handle infinities poorly; "as far as anything gets" is also how the

@@ -33,7 +33,8 @@ pub struct Args {
     /// Regularisation epsilon of eq. 7. Default: 0.1.
     #[arg(long)]
     pub eps: Option<f64>,
-    /// Feature lines as an OBJ file with `l` polylines.
+    /// Feature lines as an OBJ file with `l` polylines. Without it they are extracted from
+    /// the mesh with the default method (as `crestline extract` does).
     #[arg(long)]
     pub lines: Option<PathBuf>,
     /// Print the report as one JSON object on stdout.
@@ -61,7 +62,7 @@ pub fn run(args: Args) -> Result<()> {
     let lines = if options.eta == 0.0 && args.lines.is_none() {
         FeatureLines::default()
     } else {
-        load_lines(args.lines.as_ref())?
+        load_lines(args.lines.as_ref(), &mesh)?
     };
     let result = simplify(&mesh, &lines, &options)?;
     write_mesh(
