@@ -12,7 +12,7 @@
 //!    [`locations`](crate::lines::FeatureLine::locations) (lines traced on this mesh), the
 //!    triangles are those around the locations of each segment's two end points; otherwise
 //!    (lines read from a file) points sampled along each segment are located on the mesh by a
-//!    uniform grid of the triangles ([`FaceGrid`](crate::spatial::FaceGrid)), and the triangles around the corners of
+//!    uniform grid of the triangles ([`FaceGrid`]), and the triangles around the corners of
 //!    each located triangle are taken, so that slivers the line crosses between two samples
 //!    are not missed. Seeding only the vertices next to the line matters: a vertex reached
 //!    across the line by an edge gets an overestimate (the distance has a kink there).
