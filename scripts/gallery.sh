@@ -16,9 +16,10 @@ while read -r name mesh method view extra; do
   "$bin" extract "$meshes/$mesh" --method "$method" -o "$tmp/$name.obj" -q $extra
   "$bin" render "$meshes/$mesh" --lines "$tmp/$name.obj" -o "$out/$name.png" --size 640 --view "$view"
 done <<'LIST'
+fandisk-hpw   fandisk.obj         hpw  30,20
 fandisk-ybs   fandisk.obj         ybs  30,20   --rings=1
-bunny-hpw     stanford-bunny.obj  hpw  30,20   --smooth-steps=3
-igea-hpw      igea.ply            hpw  20,10   --smooth-steps=3
+bunny-hpw     stanford-bunny.obj  hpw  30,20
+igea-hpw      igea.ply            hpw  20,10
 rocker-ybs    rocker-arm.obj      ybs  30,30   --rings=2
 LIST
 echo "gallery written to $out"

@@ -48,6 +48,7 @@ fn estimators() -> Vec<(&'static str, Estimate)> {
                 Ok(shape_operator(
                     m,
                     &ShapeOperatorOptions::DEFAULT
+                        .with_direction_support(0.0)
                         .with_selection(PrincipalSelection::LargestMagnitude),
                 ))
             }),
@@ -183,12 +184,16 @@ fn singular_triangles() -> crestline::Result<()> {
             }
         }
         for (label, m) in variants {
-            let literal =
-                ShapeOperatorOptions::DEFAULT.with_selection(PrincipalSelection::LargestMagnitude);
+            let unsupported = ShapeOperatorOptions::DEFAULT.with_direction_support(0.0);
+            let literal = unsupported.with_selection(PrincipalSelection::LargestMagnitude);
             for (estimator, c) in [
                 (
-                    "shape operator",
+                    "shape operator (default: direction support 0.5)",
                     shape_operator(&m, &ShapeOperatorOptions::DEFAULT),
+                ),
+                (
+                    "shape operator, no direction support",
+                    shape_operator(&m, &unsupported),
                 ),
                 (
                     "shape operator (3×3 largest |λ|)",

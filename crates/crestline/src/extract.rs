@@ -63,7 +63,7 @@ pub struct ExtractOptions {
     /// Curvature estimation; the estimator is set by the method (shape operator for HPW,
     /// cubic fit for YBS). Default: [`CurvatureOptions::default`].
     pub curvature: CurvatureOptions,
-    /// Step 3: extremality smoothing. Default (HPW): 3 steps of size 1 (relative);
+    /// Step 3: extremality smoothing. Default (HPW): 2 steps of size 1 (relative), crease-aware;
     /// (YBS): none, the paper does not smooth extremalities.
     pub smoothing: ExtremalitySmoothing,
     /// Step 6: thresholds. Default (HPW): T ≥ [`HPW_DEFAULT_THRESHOLD`], length ≥ 1% of the

@@ -63,12 +63,20 @@ pub struct Args {
     /// The method.
     #[arg(long, value_enum, default_value = "hpw")]
     pub method: MethodArg,
-    /// Extremality smoothing steps (HPW; default 3, 0 turns it off).
+    /// Extremality smoothing steps (HPW; default 2, 0 turns it off).
     #[arg(long)]
     pub smooth_steps: Option<usize>,
     /// Extremality smoothing step size, relative to the squared mean edge length (default 1).
     #[arg(long)]
     pub smooth_time: Option<f64>,
+    /// Crease-aware smoothing: damp the smoothing across edges where the curvature jumps by
+    /// about this dihedral angle, in degrees (default 17; 0 gives HPW's plain smoothing).
+    #[arg(long, value_name = "DEGREES")]
+    pub crease_angle: Option<f64>,
+    /// Weight of the neighbourhood in the principal directions of the shape operator (HPW;
+    /// default 0.5; 0 gives the paper's operator, whose directions are arbitrary on flat faces).
+    #[arg(long, value_name = "LAMBDA")]
+    pub direction_support: Option<f64>,
     /// Strength threshold, or `auto` to pick it from the knee of the sorted strengths.
     /// HPW and YBS: the strength T of YBS eq. 5 (default 1); saliency: the saliency (default auto).
     #[arg(long)]
@@ -201,6 +209,12 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
     }
     if let Some(t) = args.smooth_time {
         o.smoothing.time_step = t;
+    }
+    if let Some(degrees) = args.crease_angle {
+        o.smoothing.crease_angle = degrees.to_radians();
+    }
+    if let Some(support) = args.direction_support {
+        o.curvature.shape_operator.direction_support = support;
     }
     match args.threshold.as_deref() {
         Some("auto") => o.auto_threshold = true,

@@ -126,12 +126,21 @@ impl Default for CurvatureOptions {
 /// by the estimator `options` selects.
 ///
 /// # Errors
-/// [`crate::Error::InvalidInput`] for options out of range (see [`CubicFitOptions`]). A mesh
+/// [`crate::Error::InvalidInput`] for options out of range (see [`CubicFitOptions`]; a
+/// negative or non-finite [`ShapeOperatorOptions::direction_support`]). A mesh
 /// never causes an error: vertices that cannot be estimated get a fallback value and are
 /// counted in [`Curvature::fallback_vertices`].
 pub fn estimate(mesh: &TriMesh, options: &CurvatureOptions) -> Result<Curvature> {
     match options.estimator {
-        Estimator::ShapeOperator => Ok(shape_operator(mesh, &options.shape_operator)),
+        Estimator::ShapeOperator => {
+            let support = options.shape_operator.direction_support;
+            if !(support.is_finite() && support >= 0.0) {
+                return Err(crate::Error::InvalidInput(format!(
+                    "direction support must be a non-negative number, got {support}"
+                )));
+            }
+            Ok(shape_operator(mesh, &options.shape_operator))
+        }
         Estimator::CubicFit => cubic_fit(mesh, &options.cubic_fit),
     }
 }

@@ -28,6 +28,16 @@
 //! the eigen-pairs of that 2×2 matrix; where the paper's rule is unambiguous the two agree up
 //! to the (second order) tilt between N_p and S(p)'s null direction.
 //!
+//! **Directions at flat points and umbilics** (a deviation, on by default). Where S(p) is
+//! (nearly) isotropic — flat faces of CAD models, umbilics — its eigenvectors are decided by
+//! rounding. HPW accept that (such triangles are singular). On CAD meshes it breaks every
+//! sharp crease, because the vertices beside a crease lie in flat faces. By default the
+//! directions are read from `D(p) = S(p) + λ_p · mean_{q~p} D(q)` (a few rings deep, see
+//! [`ShapeOperatorOptions::direction_support`]), where λ_p is λ at a vertex whose operator is
+//! isotropic compared with its neighbours' and falls off like `1/(1 + (a_p/(0.3 ā))²)` with
+//! its anisotropy a_p (ā: the neighbours' mean); the curvature values are S(p)'s along those
+//! directions. λ = 0 is the paper's operator.
+//!
 //! **Boundaries and non-manifold parts.** A boundary edge (one face) has no dihedral angle
 //! and contributes nothing; a non-manifold edge (three or more faces) has no meaningful one
 //! and is skipped; so is an edge whose faces fold onto each other (N₁ + N₂ ≈ 0). A face whose
@@ -80,7 +90,7 @@ pub enum PrincipalSelection {
 }
 
 /// Options of [`shape_operator()`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShapeOperatorOptions {
     /// How principal curvatures and directions are read off the vertex operator.
     ///
@@ -92,6 +102,25 @@ pub struct ShapeOperatorOptions {
     ///
     /// Default: `true`.
     pub boundary_from_interior: bool,
+    /// Weight λ of the neighbourhood in the operator the principal *directions* are read
+    /// from, `D(p) = S(p) + λ_p · mean_{q ~ p} D(q)` (λ_p ≤ λ, see the module docs) over
+    /// [`direction_rings`](Self::direction_rings) rings (point operators). The curvature
+    /// values stay those of `S(p)` itself (Rayleigh quotients along the chosen directions).
+    ///
+    /// Why: HPW's operator is zero on flat faces and isotropic at umbilics, where its
+    /// directions are decided by rounding. On CAD meshes the vertices beside a sharp crease
+    /// lie in flat faces, so the triangles that straddle the crease come out singular and the
+    /// lines along it break (fandisk: 129 of its 601 convex crease edges touch a singular
+    /// face with λ = 0). With support, such vertices take the direction of the nearest curved
+    /// feature. The support acts only where S(p) is nearly isotropic compared with its
+    /// neighbours (see the module docs); elsewhere the directions hardly move.
+    ///
+    /// Default: `0.5`. `0.0` gives HPW's operator unchanged.
+    pub direction_support: f64,
+    /// How many rings the direction support reaches (Jacobi sweeps of the definition above).
+    ///
+    /// Default: `4`.
+    pub direction_rings: usize,
 }
 
 impl ShapeOperatorOptions {
@@ -99,11 +128,19 @@ impl ShapeOperatorOptions {
     pub const DEFAULT: Self = ShapeOperatorOptions {
         selection: PrincipalSelection::TangentPlane,
         boundary_from_interior: true,
+        direction_support: 0.5,
+        direction_rings: 4,
     };
 
     /// Sets [`ShapeOperatorOptions::selection`].
     pub fn with_selection(mut self, selection: PrincipalSelection) -> Self {
         self.selection = selection;
+        self
+    }
+
+    /// Sets [`ShapeOperatorOptions::direction_support`] (0 = HPW's operator as published).
+    pub fn with_direction_support(mut self, support: f64) -> Self {
+        self.direction_support = support;
         self
     }
 
@@ -380,23 +417,36 @@ pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvatu
     let edges = all_edge_operators(mesh, &face_normals);
     let topo = mesh.topology();
     let point = |v: u32| point_operator(mesh, &edges, &face_areas, &vertex_normals, v);
-
+    let operators: Vec<Option<Matrix3>> = (0..mesh.num_vertices() as u32)
+        .into_par_iter()
+        .map(|v| {
+            if options.boundary_from_interior && topo.vertex_kind(v) == VertexKind::Boundary {
+                interior_mean(mesh, &face_areas, &point, v).or_else(|| point(v))
+            } else {
+                point(v)
+            }
+        })
+        .collect();
+    let direction_operators = direction_operators(mesh, &operators, &vertex_normals, options);
     let (mut curvature, _) = collect_estimates(
         mesh.num_vertices(),
         || (),
         |_, v| {
             let normal = vertex_normals[v as usize];
-            let operator =
-                if options.boundary_from_interior && topo.vertex_kind(v) == VertexKind::Boundary {
-                    interior_mean(mesh, &face_areas, &point, v).or_else(|| point(v))
-                } else {
-                    point(v)
-                };
-            let Some(operator) = operator else {
+            let Some(operator) = operators[v as usize] else {
                 return VertexEstimate::fallback(normal);
             };
-            let (k_max, k_min, dir_max, dir_min) =
-                principal_curvatures(&operator, normal, options.selection);
+            let (k_max, k_min, dir_max, dir_min) = match &direction_operators {
+                Some(d) => {
+                    // Directions from the supported operator, values from the vertex's own
+                    // (Rayleigh quotients; equal to its eigenvalues when the two agree).
+                    let (_, _, d1, d2) =
+                        principal_curvatures(&symmetric(&d[v as usize]), normal, options.selection);
+                    let (k1, k2) = (d1.dot(&(operator * d1)), d2.dot(&(operator * d2)));
+                    (k1.max(k2), k1.min(k2), d1, d2)
+                }
+                None => principal_curvatures(&operator, normal, options.selection),
+            };
             VertexEstimate {
                 k_max,
                 k_min,
@@ -443,6 +493,101 @@ fn interior_mean(
     (weight > 0.0).then(|| sum / weight)
 }
 
+/// The six distinct entries `[xx, xy, xz, yy, yz, zz]` of a symmetric 3×3 matrix, in single
+/// precision (enough for directions; half the memory of a `Matrix3<f64>`).
+type Sym6 = [f32; 6];
+
+fn packed(m: &Matrix3) -> Sym6 {
+    [m.m11, m.m12, m.m13, m.m22, m.m23, m.m33].map(|x| x as f32)
+}
+
+fn symmetric(s: &Sym6) -> Matrix3 {
+    let [xx, xy, xz, yy, yz, zz] = s.map(f64::from);
+    Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
+}
+
+/// Anisotropy `k₁ − k₂` of a point operator restricted to the tangent plane of `normal`.
+fn anisotropy(operator: &Matrix3, normal: Vec3) -> f64 {
+    let (u, v, _) = tangent_frame(normal);
+    let (su, sv) = (operator * u, operator * v);
+    let (a, b, c) = (u.dot(&su), u.dot(&sv), v.dot(&sv));
+    ((a - c) * (a - c) + 4.0 * b * b).sqrt()
+}
+
+/// Around this fraction of its neighbours' mean anisotropy a vertex takes its directions from
+/// the neighbourhood (see [`direction_operators`]).
+const ISOTROPIC_FRACTION: f64 = 0.3;
+
+/// The operators the principal directions are read from,
+/// `D(p) = S(p) + λ_p · mean_{q~p} D(q)`, solved by
+/// [`ShapeOperatorOptions::direction_rings`] Jacobi sweeps from `D = S` (so the support reaches
+/// that many rings); `None` when the support is off.
+///
+/// The support acts only where S(p) is nearly isotropic compared with its neighbours:
+/// `λ_p = λ / (1 + (a_p / (0.3 · ā))²)` with `a_p` the anisotropy of S(p) and ā the mean of its
+/// neighbours'. A vertex in a flat face beside a crease (a_p = 0) gets the full λ; on a smooth
+/// surface (a_p ≈ ā) λ_p ≈ λ/12 and the directions hardly move (waving surface: the largest
+/// direction error stays below 1°, against 3.7° with a uniform λ).
+fn direction_operators(
+    mesh: &TriMesh,
+    operators: &[Option<Matrix3>],
+    normals: &[Vec3],
+    options: &ShapeOperatorOptions,
+) -> Option<Vec<Sym6>> {
+    let support = options.direction_support;
+    if !(support > 0.0 && support.is_finite()) || options.direction_rings == 0 {
+        return None;
+    }
+    let topo = mesh.topology();
+    let own: Vec<Sym6> = operators
+        .par_iter()
+        .map(|o| o.as_ref().map_or([0.0; 6], packed))
+        .collect();
+    let anisotropies: Vec<f32> = operators
+        .par_iter()
+        .zip(normals)
+        .map(|(o, &n)| o.as_ref().map_or(0.0, |m| anisotropy(m, n) as f32))
+        .collect();
+    let weights: Vec<f32> = (0..mesh.num_vertices() as u32)
+        .into_par_iter()
+        .map(|v| {
+            let (mut sum, mut count) = (0.0f32, 0usize);
+            for q in topo.neighbors(v) {
+                sum += anisotropies[q as usize];
+                count += 1;
+            }
+            if count == 0 {
+                return 0.0;
+            }
+            let reference = ISOTROPIC_FRACTION as f32 * sum / count as f32;
+            let x = if reference > 0.0 {
+                anisotropies[v as usize] / reference
+            } else {
+                0.0
+            };
+            support as f32 / (1.0 + x * x) / count as f32
+        })
+        .collect();
+    drop(anisotropies);
+    let mut current = own.clone();
+    let mut next = vec![[0.0f32; 6]; own.len()];
+    for _ in 0..options.direction_rings {
+        next.par_iter_mut().enumerate().for_each(|(v, out)| {
+            let mut sum = [0.0f32; 6];
+            for q in topo.neighbors(v as u32) {
+                for (s, x) in sum.iter_mut().zip(current[q as usize]) {
+                    *s += x;
+                }
+            }
+            for ((o, s), x) in out.iter_mut().zip(sum).zip(own[v]) {
+                *o = x + weights[v] * s;
+            }
+        });
+        std::mem::swap(&mut current, &mut next);
+    }
+    Some(current)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -472,6 +617,47 @@ mod tests {
         assert_eq!(flat.mean_curvature, 0.0);
         assert!(edge_shape_operator(a, b, Vec3::z(), -Vec3::z()).is_none());
         assert!(edge_shape_operator(a, a, Vec3::z(), Vec3::z()).is_none());
+    }
+
+    #[test]
+    fn flat_vertices_beside_a_crease_take_the_direction_across_it() {
+        // Roof z = −|x| on a 20×20 grid with x = 0 on grid lines: the crease is the line x = 0,
+        // the vertices beside it lie in flat faces and their own operator is zero.
+        let mesh = crate::shapes::height_field_with(
+            |x, _| -x.abs(),
+            [-1.0, 1.0],
+            [-1.0, 1.0],
+            20,
+            20,
+            crate::shapes::GridPattern::Uniform,
+        );
+        let step = 0.1;
+        let c = shape_operator(&mesh, &ShapeOperatorOptions::DEFAULT);
+        let paper = shape_operator(
+            &mesh,
+            &ShapeOperatorOptions::DEFAULT.with_direction_support(0.0),
+        );
+        let mut checked = 0;
+        for v in 0..mesh.num_vertices() {
+            let p = mesh.position(v as u32);
+            let beside = (p.x.abs() - step).abs() < 1e-9;
+            if !beside || p.y.abs() > 0.7 {
+                continue;
+            }
+            checked += 1;
+            // Values are the vertex's own (zero), directions cross the crease.
+            assert!(c.k_max[v].abs() < 1e-9 && c.k_min[v].abs() < 1e-9);
+            assert!(c.dir_max[v].y.abs() < 0.05, "{:?}", c.dir_max[v]);
+        }
+        assert!(checked >= 20);
+        // On the crease the operator is anisotropic and the support changes nothing visible.
+        for v in 0..mesh.num_vertices() {
+            let p = mesh.position(v as u32);
+            if p.x.abs() < 1e-9 && p.y.abs() < 0.7 {
+                assert!(c.k_max[v] > 1.0);
+                assert!(c.dir_max[v].dot(&paper.dir_max[v]).abs() > 0.999);
+            }
+        }
     }
 
     #[test]

@@ -14,8 +14,20 @@
 //! Inhomogeneous smoothing: per-vertex factors `f` scale the diffusion locally, the weight of
 //! edge pq becoming `w_pq (f_p + f_q) / 2` ([`DiffusionMask`] builds them from regions).
 //!
+//! **Crease-aware diffusion** (a deviation, on by default; [`ExtremalitySmoothing::crease_angle`]).
+//! A sharp crease of a CAD model is a jump of the principal curvature over one ring: the
+//! extremality there is a pair of opposite spikes, one each side, and its zero sits on the
+//! crease only as long as the two spikes balance. Plain diffusion mixes spikes with the
+//! extremalities of the flat and curved faces on either side, which are not symmetric, and the
+//! zero drifts off the crease (on fandisk, 3 steps lose 38% of the crease edges). Damping the
+//! diffusion across edges where the curvature jumps keeps each side's profile and still
+//! smooths along the crease; on smooth (also noisy scanned) surfaces the jumps are small and
+//! the smoothing is HPW's. It is an automatic instance of the paper's inhomogeneous smoothing.
+//!
 //! Time step: `t = time_step · h²` with `h` the mean edge length, so the same options behave
 //! the same on meshes of any scale; one step diffuses over roughly `sqrt(time_step)` rings.
+
+use rayon::prelude::*;
 
 use crate::curvature::Curvature;
 use crate::error::{Error, Result};
@@ -27,7 +39,8 @@ use super::{DiffusionOperator, DiffusionPattern, cotan_weights, lumped_mass};
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExtremalitySmoothing {
     /// Number of implicit steps. HPW needed at most 5 on their models.
-    /// Default: 3.
+    /// Default: 2 (with crease-aware diffusion: fandisk keeps 98% of its crease length, 96.7%
+    /// after 3 steps; the bunny gives 207 lines, 134 after 3 steps).
     pub steps: usize,
     /// Step size relative to the squared mean edge length.
     /// Default: 1.0.
@@ -35,14 +48,28 @@ pub struct ExtremalitySmoothing {
     /// Per-vertex diffusion factors (1 = normal, 0 = none, >1 = more); `None` for
     /// homogeneous smoothing. Default: `None`.
     pub diffusion: Option<Vec<f64>>,
+    /// Crease-aware diffusion (radians; 0 turns it off, which is HPW's smoothing): the weight
+    /// of edge pq is divided by `1 + (J_pq / crease_angle)²` with
+    /// `J_pq = |pq| · max(|Δk_max|, |Δk_min|)`, the jump of the principal curvatures across
+    /// the edge times its length — about the dihedral angle a sharp crease puts between the
+    /// two vertices, and O(h²) on a smooth surface. See the module docs.
+    ///
+    /// Default: [`DEFAULT_CREASE_ANGLE`].
+    pub crease_angle: f64,
 }
+
+/// Default of [`ExtremalitySmoothing::crease_angle`]: 0.3 rad (about 17°). Measured on fandisk
+/// (3 steps): 90% of its crease edges covered, against 62% with plain smoothing; on the bunny
+/// 134 lines instead of 101, none of them spurious to the eye.
+pub const DEFAULT_CREASE_ANGLE: f64 = 0.3;
 
 impl Default for ExtremalitySmoothing {
     fn default() -> Self {
         ExtremalitySmoothing {
-            steps: 3,
+            steps: 2,
             time_step: 1.0,
             diffusion: None,
+            crease_angle: DEFAULT_CREASE_ANGLE,
         }
     }
 }
@@ -103,6 +130,28 @@ impl DiffusionMask {
     }
 }
 
+/// Divides each edge weight by `1 + (J / crease_angle)²`, `J = |pq| · max(|Δk_max|, |Δk_min|)`.
+fn attenuate_across_jumps(
+    mesh: &TriMesh,
+    curvature: &Curvature,
+    crease_angle: f64,
+    weights: &mut [f64],
+) {
+    let (k_max, k_min) = (&curvature.k_max, &curvature.k_min);
+    weights
+        .par_iter_mut()
+        .zip(mesh.topology().edges())
+        .for_each(|(w, &[a, b])| {
+            let length = (mesh.position(a) - mesh.position(b)).norm();
+            let (a, b) = (a as usize, b as usize);
+            let jump = (k_max[a] - k_max[b]).abs().max((k_min[a] - k_min[b]).abs()) * length;
+            let x = jump / crease_angle;
+            if x.is_finite() {
+                *w /= 1.0 + x * x;
+            }
+        });
+}
+
 /// Smooths `curvature.e_max` and `curvature.e_min` in place, keeping them consistent with
 /// the stored directions.
 ///
@@ -147,6 +196,12 @@ impl ExtremalitySmoother {
                 options.time_step
             )));
         }
+        if !(options.crease_angle.is_finite() && options.crease_angle >= 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "crease angle must be a non-negative number of radians, got {}",
+                options.crease_angle
+            )));
+        }
         let n = mesh.num_vertices();
         if curvature.dir_max.len() != n || curvature.dir_min.len() != n {
             return Err(Error::InvalidInput(
@@ -164,6 +219,9 @@ impl ExtremalitySmoother {
             for (w, &[a, b]) in weights.iter_mut().zip(mesh.topology().edges()) {
                 *w *= 0.5 * (f[a as usize] + f[b as usize]);
             }
+        }
+        if options.crease_angle > 0.0 {
+            attenuate_across_jumps(mesh, curvature, options.crease_angle, &mut weights);
         }
         let mass = lumped_mass(mesh, mesh.positions());
         let h = mean_edge_length(mesh);
