@@ -333,10 +333,7 @@ mod tests {
         }
         for corner in [[-1.0, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]] {
             let corner = Vec3::new(corner[0], corner[1], 0.0);
-            assert!(
-                out.positions().iter().any(|&p| p == corner),
-                "corner {corner:?} moved"
-            );
+            assert!(out.positions().contains(&corner), "corner {corner:?} moved");
         }
     }
 
