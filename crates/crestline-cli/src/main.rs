@@ -33,6 +33,8 @@ enum Command {
     Distance(cmd::distance::Args),
     /// Simplify a mesh, keeping detail near the feature lines (YBS 2005, eq. 7).
     Simplify(cmd::simplify::Args),
+    /// Refine a mesh by Loop subdivision (each level turns every triangle into four).
+    Subdivide(cmd::subdivide::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -45,6 +47,7 @@ fn main() -> std::process::ExitCode {
         Command::View(args) => cmd::view::run(args),
         Command::Distance(args) => cmd::distance::run(args),
         Command::Simplify(args) => cmd::simplify::run(args),
+        Command::Subdivide(args) => cmd::subdivide::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -1,7 +1,7 @@
 //! `crestline extract`: feature lines of a mesh, written as OBJ, PLY or JSON.
 
 use std::path::{Path, PathBuf};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
@@ -126,7 +126,9 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
+    let start = Instant::now();
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.input_format)?;
+    let load_time = start.elapsed();
     let options = options_from_args(&args, &mesh)?;
     let extraction = run_with_progress(&mesh, &options, args.quiet)?;
 
@@ -142,12 +144,17 @@ pub fn run(args: Args) -> Result<()> {
     let format = format
         .or_else(|| LinesFormat::from_path(&output))
         .unwrap_or(LinesFormat::Obj);
+    let start = Instant::now();
     write_lines(
         &output,
         &extraction.lines,
         Some(format),
         PlyEncoding::BinaryLittleEndian,
     )?;
+    let io = FileTimes {
+        load: load_time,
+        write: start.elapsed(),
+    };
 
     let picture_options = crestline::render::RenderOptions::default();
     for (path, write) in [
@@ -178,10 +185,10 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     match args.stats {
-        Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, &mesh)),
+        Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, &mesh, &io)),
         Some(StatsFormat::Json) => println!(
             "{}",
-            serde_json::to_string_pretty(&stats_json(&extraction, &mesh))?
+            serde_json::to_string_pretty(&stats_json(&extraction, &mesh, &io))?
         ),
         None => {}
     }
@@ -369,7 +376,13 @@ pub fn run_with_progress(
     Ok(extract_with_progress(mesh, options, &mut progress)?)
 }
 
-fn stats_text(x: &Extraction, mesh: &TriMesh) -> String {
+/// Time spent reading the mesh and writing the lines, outside the library's stages.
+struct FileTimes {
+    load: Duration,
+    write: Duration,
+}
+
+fn stats_text(x: &Extraction, mesh: &TriMesh, io: &FileTimes) -> String {
     let s = &x.stats;
     let pct = |n: usize| 100.0 * n as f64 / s.triangles.max(1) as f64;
     let mut out = String::new();
@@ -399,13 +412,15 @@ fn stats_text(x: &Extraction, mesh: &TriMesh) -> String {
     if s.gaps_jumped > 0 {
         out += &format!("gaps jumped            {}\n", s.gaps_jumped);
     }
+    out += &format!("time {:<22} {:.3} s\n", "load", io.load.as_secs_f64());
     for (stage, t) in &s.stage_times {
         out += &format!("time {:<22} {:.3} s\n", stage.name(), t.as_secs_f64());
     }
+    out += &format!("time {:<22} {:.3} s\n", "write", io.write.as_secs_f64());
     out
 }
 
-fn stats_json(x: &Extraction, mesh: &TriMesh) -> serde_json::Value {
+fn stats_json(x: &Extraction, mesh: &TriMesh, io: &FileTimes) -> serde_json::Value {
     let s = &x.stats;
     serde_json::json!({
         "triangles": s.triangles,
@@ -421,6 +436,8 @@ fn stats_json(x: &Extraction, mesh: &TriMesh) -> serde_json::Value {
         "threshold_auto": s.threshold_is_auto,
         "gaps_jumped": s.gaps_jumped,
         "fallback_vertices": s.fallback_vertices,
+        "load_seconds": io.load.as_secs_f64(),
+        "write_seconds": io.write.as_secs_f64(),
         "stage_seconds": s.stage_times.iter().map(|(st, t)| (st.name().to_string(), serde_json::json!(t.as_secs_f64()))).collect::<serde_json::Map<_, _>>(),
     })
 }

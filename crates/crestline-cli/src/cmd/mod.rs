@@ -6,4 +6,5 @@ pub mod extract;
 pub mod info;
 pub mod render;
 pub mod simplify;
+pub mod subdivide;
 pub mod view;

@@ -13,6 +13,7 @@
 
 mod geometry;
 mod info;
+mod subdivide;
 mod topology;
 
 pub use geometry::{
@@ -20,6 +21,7 @@ pub use geometry::{
     vertex_normals_max,
 };
 pub use info::MeshInfo;
+pub use subdivide::{SubdivideOptions, loop_subdivide};
 pub use topology::{EdgeKind, Topology, VertexKind};
 
 use crate::error::{Error, Result};

@@ -1,0 +1,39 @@
+//! `crestline extract --stats=json` as the CGAL comparison (bench/compare) reads it.
+
+// Test code: stopping loudly on the first surprise is the point.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::process::Command;
+
+#[test]
+fn json_stats_time_every_step_and_count_the_written_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("lines.obj");
+    // The built-in example (fandisk) when no mesh is given.
+    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args([
+            "extract",
+            "-o",
+            output.to_str().unwrap(),
+            "--stats=json",
+            "-q",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stats: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in ["load_seconds", "write_seconds"] {
+        let t = stats[key].as_f64().unwrap_or(-1.0);
+        assert!(t >= 0.0, "{key}: {}", stats[key]);
+    }
+    let stages = stats["stage_seconds"].as_object().unwrap();
+    assert!(stages.contains_key("curvature"), "{stages:?}");
+    let written = std::fs::read_to_string(&output).unwrap();
+    let polylines = written.lines().filter(|l| l.starts_with("l ")).count();
+    assert_eq!(stats["lines"].as_u64().unwrap() as usize, polylines);
+    assert_eq!(stats["triangles"].as_u64().unwrap(), 12946);
+}

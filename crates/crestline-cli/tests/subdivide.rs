@@ -1,0 +1,75 @@
+//! `crestline subdivide` run as a user runs it: counts after Loop subdivision, format
+//! conversion with `--levels 0`, clean refusals.
+
+// Test code: stopping loudly on the first surprise is the point.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::process::{Command, Output};
+
+use crestline::io::{Format, WriteOptions, read_mesh, write_mesh};
+
+fn crestline(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args(args)
+        .output()
+        .expect("the crestline binary runs")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn two_levels_of_a_closed_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sphere.obj");
+    let mesh = crestline::shapes::icosphere(1.0, 1);
+    write_mesh(&input, &mesh, Format::Obj, &WriteOptions::default()).unwrap();
+    let output = dir.path().join("fine.ply");
+    let out = crestline(&[
+        "subdivide",
+        input.to_str().unwrap(),
+        "-o",
+        output.to_str().unwrap(),
+        "--levels",
+        "2",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let fine = read_mesh(&output, None).unwrap();
+    // 80 faces, 42 vertices, 120 edges -> 320 faces, 162 vertices, 480 edges -> 1280, 642.
+    assert_eq!(fine.num_faces(), 1280);
+    assert_eq!(fine.num_vertices(), 642);
+    let info = fine.info();
+    assert!(info.closed && info.non_manifold_vertices == 0 && info.components == 1);
+}
+
+#[test]
+fn zero_levels_converts_the_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("fandisk.off");
+    // The built-in example (fandisk) when no mesh is given.
+    let out = crestline(&["subdivide", "-o", output.to_str().unwrap(), "--levels", "0"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&output).unwrap();
+    assert!(text.starts_with("OFF\n6475 12946 0\n"), "{}", &text[..40]);
+}
+
+#[test]
+fn refuses_a_bad_corner_angle_and_an_oversized_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("x.obj");
+    let o = output.to_str().unwrap();
+    for (args, expected) in [
+        (vec!["--corner-angle", "200"], "corner angle"),
+        (vec!["--levels", "12"], "12 levels"),
+    ] {
+        let mut all = vec!["subdivide", "-o", o];
+        all.extend(args);
+        let out = crestline(&all);
+        let err = stderr(&out);
+        assert!(!out.status.success(), "{all:?} should fail");
+        assert!(!err.contains("panicked"), "{all:?} panicked: {err}");
+        assert!(err.contains(expected), "{all:?}: {err}");
+    }
+    assert!(!output.exists());
+}

@@ -1,0 +1,110 @@
+//! Where time and memory go in `extract`: wall time, resident memory and its high-water mark
+//! (Linux `/proc/self/status`) after reading the mesh and after every stage, plus the bytes
+//! held by the mesh itself. Used for the CGAL comparison in `BENCHMARKS.md`.
+//!
+//! ```sh
+//! cargo run --release -p crestline --example stage_memory -- MESH [hpw|ybs|saliency]
+//! ```
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use crestline::TriMesh;
+use crestline::extract::{ExtractOptions, Method, Stage, extract_with_progress};
+use crestline::io::Format;
+
+/// `VmRSS` and `VmHWM` in bytes, when the system reports them.
+fn memory() -> Option<(u64, u64)> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let field = |name: &str| -> Option<u64> {
+        let line = status.lines().find(|l| l.starts_with(name))?;
+        let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+        Some(kb * 1024)
+    };
+    Some((field("VmRSS:")?, field("VmHWM:")?))
+}
+
+fn row(label: &str, seconds: f64, faces: usize) {
+    match memory() {
+        Some((rss, hwm)) => println!(
+            "| {label} | {seconds:.3} | {:.1} | {:.1} | {:.0} |",
+            rss as f64 / 1e6,
+            hwm as f64 / 1e6,
+            hwm as f64 / faces as f64
+        ),
+        None => println!("| {label} | {seconds:.3} | n/a | n/a | n/a |"),
+    }
+}
+
+/// Bytes held by the mesh's own arrays: positions, faces and the connectivity, counted from
+/// the element counts (see `mesh::Topology` for the layout).
+fn mesh_bytes(mesh: &TriMesh) -> usize {
+    let (v, f, e) = (
+        mesh.num_vertices(),
+        mesh.num_faces(),
+        mesh.topology().num_edges(),
+    );
+    let positions = 24 * v;
+    let faces = 12 * f;
+    let vertex_faces = 4 * (v + 1) + 4 * 3 * f;
+    let vertex_edges = 4 * (v + 1) + 4 * 2 * e;
+    let edges = 8 * e;
+    let edge_faces = 4 * (e + 1) + 4 * 3 * f;
+    let face_edges = 12 * f;
+    let vertex_kinds = v;
+    positions + faces + vertex_faces + vertex_edges + edges + edge_faces + face_edges + vertex_kinds
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let path = PathBuf::from(
+        args.next()
+            .ok_or("usage: stage_memory MESH [hpw|ybs|saliency]")?,
+    );
+    let method = match args.next().as_deref() {
+        None | Some("hpw") => Method::Hpw,
+        Some("ybs") => Method::Ybs,
+        Some("saliency") => Method::Saliency,
+        Some(other) => return Err(format!("unknown method {other}").into()),
+    };
+
+    println!("| step | seconds | RSS after, MB | peak so far, MB | peak bytes/face |");
+    println!("| --- | ---: | ---: | ---: | ---: |");
+    // Reading is split as `crestline::io::read_mesh` does it: file bytes, parse, TriMesh (the
+    // degenerate-face check and the connectivity).
+    let start = Instant::now();
+    let bytes = std::fs::read(&path)?;
+    let read_time = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let data = crestline::io::parse_mesh_bytes(&bytes, Format::resolve(&path, None)?, &path)?;
+    let faces = data.faces.len();
+    let parse_time = start.elapsed().as_secs_f64();
+    row("read file", read_time, faces);
+    drop(bytes);
+    row("parse (file bytes then freed)", parse_time, faces);
+    let start = Instant::now();
+    let mesh = data.into_mesh(&path)?;
+    row(
+        "build mesh (connectivity)",
+        start.elapsed().as_secs_f64(),
+        faces,
+    );
+
+    let options = ExtractOptions::for_method(method);
+    let mut progress = |stage: Stage, done: Option<Duration>| {
+        if let Some(t) = done {
+            row(stage.name(), t.as_secs_f64(), faces);
+        }
+    };
+    let extraction = extract_with_progress(&mesh, &options, &mut progress)?;
+    println!();
+    println!(
+        "{} faces, {} vertices; the mesh's arrays hold {:.1} MB ({:.0} bytes/face); {} lines",
+        faces,
+        mesh.num_vertices(),
+        mesh_bytes(&mesh) as f64 / 1e6,
+        mesh_bytes(&mesh) as f64 / faces as f64,
+        extraction.lines.lines.len()
+    );
+    Ok(())
+}
