@@ -167,6 +167,16 @@ pub fn run(args: Args) -> Result<()> {
         );
         if s.threshold_is_auto {
             eprintln!("automatic threshold: {:.6}", s.threshold);
+        } else if options.auto_threshold {
+            match options.method {
+                Method::Saliency => {
+                    eprintln!("automatic threshold: the saliency has no knee, no feature points")
+                }
+                _ => eprintln!(
+                    "automatic threshold: the line strengths have no knee, kept T >= {}",
+                    s.threshold
+                ),
+            }
         }
     }
     match args.stats {
