@@ -73,7 +73,8 @@ pub struct ExtractOptions {
     /// (YBS): none, the paper does not smooth extremalities.
     pub smoothing: ExtremalitySmoothing,
     /// Step 6: thresholds. Default (HPW): T ≥ [`HPW_DEFAULT_THRESHOLD`], length ≥ 1% of the
-    /// diagonal; (YBS): T ≥ [`YBS_DEFAULT_THRESHOLD`], length ≥ 1%. HPW filter with the
+    /// diagonal; (YBS): T ≥ [`YBS_DEFAULT_THRESHOLD`] as the floor of the automatic threshold
+    /// (see `auto_threshold`), length ≥ 1%. HPW filter with the
     /// curvature integral of Ohtake et al.; that measure cannot tell spurious lines on Dupin
     /// cyclides (a torus: ∫|k| ds is large along any line there) from crest lines, while T,
     /// built on the cyclideness, is ≈ 0 on them — so T is the default for both methods.
@@ -87,8 +88,16 @@ pub struct ExtractOptions {
     /// Feature-point linking (Saliency only). Default: [`LinkOptions::default`].
     pub link: LinkOptions,
     /// Choose the threshold by the knee search: for Saliency instead of `filter.threshold`,
-    /// for HPW and YBS above it (see the module docs). Default: false for HPW and YBS, true
-    /// for Saliency.
+    /// for HPW and YBS above it (see the module docs). Default: true for YBS and Saliency,
+    /// false for HPW.
+    ///
+    /// Why (measured on the shared meshes, table in BENCHMARKS.md): YBS's fixed T ≥ 1 keeps
+    /// hundreds of weak lines on scanned meshes (igea 1,733 lines, 77 diagonals long) and a
+    /// few on fandisk's flat faces; the knee keeps the salient ones (igea 275, 28 diagonals;
+    /// fandisk's creases all kept, the flat-face lines gone) and changes nothing where the
+    /// strengths have no knee (beetle, teapot, spheres, tori). HPW's extremality smoothing
+    /// already leaves few weak lines: the knee changes little (igea 329 → 320) or drops
+    /// genuine ones (fandisk 13 → 5, the bunny's eye line), so HPW keeps its fixed threshold.
     pub auto_threshold: bool,
     /// The knee search. Default: [`KneeSearch::default`] (the paper's) for Saliency,
     /// [`KneeSearch::for_strengths`] for HPW and YBS.
@@ -98,7 +107,8 @@ pub struct ExtractOptions {
 /// Default threshold of the HPW pipeline on T (dimensionless). Measured: spurious lines on a
 /// torus have T ≈ 0.01, the ellipsoid's crest line T ≈ 40, fandisk's creases T ≈ 2 to 13.
 pub const HPW_DEFAULT_THRESHOLD: f64 = 1.0;
-/// Default threshold of the YBS pipeline on T (dimensionless, as in the paper's figures).
+/// Default threshold of the YBS pipeline on T (dimensionless, as in the paper's figures):
+/// the floor of its automatic threshold, and the threshold when the strengths have no knee.
 pub const YBS_DEFAULT_THRESHOLD: f64 = 1.0;
 /// Default minimum line length, as a fraction of the bounding-box diagonal.
 pub const DEFAULT_MIN_LENGTH: f64 = 0.01;
@@ -141,7 +151,7 @@ impl ExtractOptions {
                 gaps: Some(GapJumping::default()),
                 saliency: SaliencyOptions::default(),
                 link: LinkOptions::default(),
-                auto_threshold: false,
+                auto_threshold: true,
                 knee: KneeSearch::for_strengths(),
             },
             Method::Saliency => ExtractOptions {

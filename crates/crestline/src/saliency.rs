@@ -408,6 +408,49 @@ mod tests {
     }
 
     #[test]
+    fn pillow_box_creases_are_more_salient_than_its_faces() {
+        // The cube's edges are sharp creases; the faces bulge gently (largest curvature
+        // ≈ 1 at their middles). With the cubic fit, as the saliency method runs it.
+        let (mesh, _) = shapes::pillow_box(1.0, 0.25, 20);
+        let options = CurvatureOptions::default().with_estimator(crate::curvature::Estimator::CubicFit);
+        let c = estimate(&mesh, &options).unwrap();
+        let s = mesh_saliency(&mesh, &c, &SaliencyOptions::default()).unwrap();
+        let nearest = |q: Vec3| {
+            (0..mesh.num_vertices())
+                .min_by(|&a, &b| {
+                    (mesh.positions()[a] - q)
+                        .norm()
+                        .total_cmp(&(mesh.positions()[b] - q).norm())
+                })
+                .unwrap()
+        };
+        let edge_middle = s.saliency[nearest(Vec3::new(0.0, 1.0, 1.0))];
+        let face_middle = s.saliency[nearest(Vec3::new(0.0, 0.0, 1.25))];
+        assert!(
+            edge_middle > 3.0 * face_middle,
+            "edge {edge_middle}, face {face_middle}"
+        );
+        // Every crease vertex away from the corners beats every vertex in the middle half
+        // of a face.
+        let is_crease = |p: &Vec3| (0..3).filter(|&k| (p[k].abs() - 1.0).abs() < 1e-9).count() == 2;
+        let crease_min = (0..mesh.num_vertices())
+            .filter(|&v| {
+                let p = mesh.positions()[v];
+                is_crease(&p) && p.iter().all(|x| x.abs() < 0.99 || (x.abs() - 1.0).abs() < 1e-9)
+            })
+            .map(|v| s.saliency[v])
+            .fold(f64::INFINITY, f64::min);
+        let face_max = (0..mesh.num_vertices())
+            .filter(|&v| {
+                let p = mesh.positions()[v];
+                (0..3).filter(|&k| p[k].abs() < 0.5).count() == 2
+            })
+            .map(|v| s.saliency[v])
+            .fold(0.0, f64::max);
+        assert!(crease_min > face_max, "crease min {crease_min}, face max {face_max}");
+    }
+
+    #[test]
     fn sphere_and_torus_saliency_have_no_knee() {
         // Curv is 1/r on a sphere and 1/r_minor on a torus (the tube curvature dominates), so
         // the sorted saliency has no steep part and the knee search finds no threshold.

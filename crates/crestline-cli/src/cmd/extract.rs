@@ -70,7 +70,8 @@ pub struct Args {
     #[arg(long)]
     pub smooth_time: Option<f64>,
     /// Strength threshold, or `auto` to pick it from the knee of the sorted strengths.
-    /// HPW and YBS: the strength T of YBS eq. 5 (default 1); saliency: the saliency (default auto).
+    /// HPW: the strength T of YBS eq. 5, default 1. YBS: default auto (the knee of the
+    /// strengths above T = 1; 1 when there is none). Saliency: the saliency, default auto.
     #[arg(long)]
     pub threshold: Option<String>,
     /// Minimum line length as a fraction of the bounding-box diagonal (default 0.01).
