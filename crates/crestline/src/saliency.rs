@@ -202,30 +202,62 @@ impl Neighbourhood<'_> {
     fn variation<const L: usize>(&self, p: Vec3) -> f64 {
         let reach = Gaussians::<L>::REACH[L - 1];
         let mut sums = Sums::<L>::default();
-        let mut a_in = [0.0f64; BATCH];
-        let mut c_in = [0.0f64; BATCH];
+        // Room for a full batch plus one more chunk of candidates.
+        let mut a_in = [0.0f64; 2 * BATCH];
+        let mut c_in = [0.0f64; 2 * BATCH];
         let mut n = 0;
         self.grid.for_each_run_near(p, self.radius, |run| {
-            for s in run {
-                // a = d²/(2σ²); the neighbour is within the largest radius when a ≤ 2L².
-                let (dx, dy, dz) = (self.x[s] - p.x, self.y[s] - p.y, self.z[s] - p.z);
-                let a = (dx * dx + dy * dy + dz * dz) * self.inv_two_sigma2;
-                // n < BATCH here, so the mask changes nothing but the bounds check.
-                a_in[n & (BATCH - 1)] = a;
-                c_in[n & (BATCH - 1)] = self.curv[s];
-                n += usize::from(a <= reach);
-                if n == BATCH {
-                    sums.add_batch(&a_in, &c_in);
-                    n = 0;
+            let mut start = run.start;
+            while start < run.end {
+                let end = (start + BATCH).min(run.end);
+                n = self.within_reach(p, reach, start..end, &mut a_in, &mut c_in, n);
+                if n >= BATCH {
+                    sums.add_batch(&a_in[..BATCH], &c_in[..BATCH]);
+                    a_in.copy_within(BATCH..n, 0);
+                    c_in.copy_within(BATCH..n, 0);
+                    n -= BATCH;
                 }
+                start = end;
             }
         });
         // The last partial batch: lanes past the last neighbour get weight 0.
         a_in[n..].fill(f64::INFINITY);
-        sums.add_batch(&a_in[..n.next_multiple_of(LANES)], &c_in);
+        let full = n.next_multiple_of(LANES);
+        sums.add_batch(&a_in[..full], &c_in[..full]);
         // The vertex itself is within reach at every scale, so den > 0.
         let g = |k: usize| sums.num[k].iter().sum::<f64>() / sums.den[k].iter().sum::<f64>();
         (0..L - 1).map(|k| (g(k + 1) - g(k)).abs()).sum()
+    }
+
+    /// Appends to `a_out, c_out` (from `n < BATCH` on) the candidates in `slots` (at most
+    /// [`BATCH`]) with `a = d²/(2σ²) ≤ reach`, without branches; returns the new count.
+    /// Not inlined: as a small function of its own its loop keeps everything in registers.
+    #[inline(never)]
+    fn within_reach(
+        &self,
+        p: Vec3,
+        reach: f64,
+        slots: std::ops::Range<usize>,
+        a_out: &mut [f64; 2 * BATCH],
+        c_out: &mut [f64; 2 * BATCH],
+        mut n: usize,
+    ) -> usize {
+        let (x, y, z, c) = (
+            &self.x[slots.clone()],
+            &self.y[slots.clone()],
+            &self.z[slots.clone()],
+            &self.curv[slots],
+        );
+        for i in 0..x.len().min(y.len()).min(z.len()).min(c.len()) {
+            let (dx, dy, dz) = (x[i] - p.x, y[i] - p.y, z[i] - p.z);
+            let a = (dx * dx + dy * dy + dz * dz) * self.inv_two_sigma2;
+            // n < 2 BATCH (n starts below BATCH, grows by at most BATCH), so the mask
+            // changes nothing but the bounds check.
+            a_out[n & (2 * BATCH - 1)] = a;
+            c_out[n & (2 * BATCH - 1)] = c[i];
+            n += usize::from(a <= reach);
+        }
+        n
     }
 }
 
