@@ -1,14 +1,15 @@
 //! `crestline curvature` writes the documented vertex properties (PLY) and columns (CSV).
 
+// Test code: stopping loudly on the first surprise is the point.
+#![allow(clippy::unwrap_used)]
+
+use std::ffi::OsStr;
 use std::process::Command;
 
-#[test]
-fn curvature_writes_ply_properties_and_csv_columns() {
-    let dir = tempfile::tempdir().unwrap();
-    let ply = dir.path().join("fields.ply");
+/// Runs `crestline` with `args` and checks that it succeeded.
+fn crestline<I: IntoIterator<Item = S>, S: AsRef<OsStr>>(args: I) {
     let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(["curvature", "--saliency", "-o"])
-        .arg(&ply)
+        .args(args)
         .output()
         .unwrap();
     assert!(
@@ -16,6 +17,18 @@ fn curvature_writes_ply_properties_and_csv_columns() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+#[test]
+fn curvature_writes_ply_properties_and_csv_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = dir.path().join("fields.ply");
+    crestline([
+        OsStr::new("curvature"),
+        "--saliency".as_ref(),
+        "-o".as_ref(),
+        ply.as_os_str(),
+    ]);
     let bytes = std::fs::read(&ply).unwrap();
     let end = bytes.windows(10).position(|w| w == b"end_header").unwrap();
     let header = String::from_utf8_lossy(&bytes[..end]);
@@ -41,16 +54,8 @@ fn curvature_writes_ply_properties_and_csv_columns() {
     assert!(header.contains("element vertex 6475"));
 
     let csv = dir.path().join("fields.csv");
-    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(["curvature", "--estimator", "cubic-fit", "--csv", "-o"])
-        .arg(&csv)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let args = ["curvature", "--estimator", "cubic-fit", "--csv", "-o"];
+    crestline(args.iter().map(OsStr::new).chain([csv.as_os_str()]));
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut rows = text.lines();
     assert_eq!(
@@ -77,18 +82,16 @@ fn extract_writes_lines_and_a_picture() {
     let dir = tempfile::tempdir().unwrap();
     let lines = dir.path().join("lines.obj");
     let png = dir.path().join("lines.png");
-    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(["extract", "--method", "ybs", "-q", "-o"])
-        .arg(&lines)
-        .arg("--png")
-        .arg(&png)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    crestline([
+        OsStr::new("extract"),
+        "--method".as_ref(),
+        "ybs".as_ref(),
+        "-q".as_ref(),
+        "-o".as_ref(),
+        lines.as_os_str(),
+        "--png".as_ref(),
+        png.as_os_str(),
+    ]);
     let text = std::fs::read_to_string(&lines).unwrap();
     assert!(text.contains("o ridges"));
     assert!(text.lines().filter(|l| l.starts_with("l ")).count() >= 10);
@@ -103,16 +106,15 @@ fn curvature_saliency_writes_curv_and_saliency_values() {
     let csv = dir.path().join("fields.csv");
     let ply = dir.path().join("fields.ply");
     for (out, extra) in [(&csv, "--csv"), (&ply, "--ascii")] {
-        let run = Command::new(env!("CARGO_BIN_EXE_crestline"))
-            .args(["curvature", "--estimator", "cubic-fit", "--saliency", extra, "-o"])
-            .arg(out)
-            .output()
-            .unwrap();
-        assert!(
-            run.status.success(),
-            "{}",
-            String::from_utf8_lossy(&run.stderr)
-        );
+        let args = [
+            "curvature",
+            "--estimator",
+            "cubic-fit",
+            "--saliency",
+            extra,
+            "-o",
+        ];
+        crestline(args.iter().map(OsStr::new).chain([out.as_os_str()]));
     }
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut rows = text.lines();

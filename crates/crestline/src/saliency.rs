@@ -444,7 +444,8 @@ mod tests {
         // The cube's edges are sharp creases; the faces bulge gently (largest curvature
         // ≈ 1 at their middles). With the cubic fit, as the saliency method runs it.
         let (mesh, _) = shapes::pillow_box(1.0, 0.25, 20);
-        let options = CurvatureOptions::default().with_estimator(crate::curvature::Estimator::CubicFit);
+        let options =
+            CurvatureOptions::default().with_estimator(crate::curvature::Estimator::CubicFit);
         let c = estimate(&mesh, &options).unwrap();
         let s = mesh_saliency(&mesh, &c, &SaliencyOptions::default()).unwrap();
         let nearest = |q: Vec3| {
@@ -468,7 +469,9 @@ mod tests {
         let crease_min = (0..mesh.num_vertices())
             .filter(|&v| {
                 let p = mesh.positions()[v];
-                is_crease(&p) && p.iter().all(|x| x.abs() < 0.99 || (x.abs() - 1.0).abs() < 1e-9)
+                is_crease(&p)
+                    && p.iter()
+                        .all(|x| x.abs() < 0.99 || (x.abs() - 1.0).abs() < 1e-9)
             })
             .map(|v| s.saliency[v])
             .fold(f64::INFINITY, f64::min);
@@ -479,7 +482,10 @@ mod tests {
             })
             .map(|v| s.saliency[v])
             .fold(0.0, f64::max);
-        assert!(crease_min > face_max, "crease min {crease_min}, face max {face_max}");
+        assert!(
+            crease_min > face_max,
+            "crease min {crease_min}, face max {face_max}"
+        );
     }
 
     #[test]
@@ -587,7 +593,13 @@ mod tests {
     fn unreferenced_vertices_take_no_part() {
         // A stray vertex in the middle of a flat grid with a curved field: its saliency is
         // 0 and the others' are what they are without it.
-        let mesh = shapes::height_field(|x, y| 0.1 * (x * x - y * y), [-1.0, 1.0], [-1.0, 1.0], 12, 12);
+        let mesh = shapes::height_field(
+            |x, y| 0.1 * (x * x - y * y),
+            [-1.0, 1.0],
+            [-1.0, 1.0],
+            12,
+            12,
+        );
         let mut positions = mesh.positions().to_vec();
         positions.push(Vec3::new(0.01, 0.02, 0.0));
         let with_stray = TriMesh::new(positions, mesh.faces().to_vec()).unwrap();
