@@ -1,14 +1,15 @@
 //! `crestline curvature` writes the documented vertex properties (PLY) and columns (CSV).
 
+// Test code: stopping loudly on the first surprise is the point.
+#![allow(clippy::unwrap_used)]
+
+use std::ffi::OsStr;
 use std::process::Command;
 
-#[test]
-fn curvature_writes_ply_properties_and_csv_columns() {
-    let dir = tempfile::tempdir().unwrap();
-    let ply = dir.path().join("fields.ply");
+/// Runs `crestline` with `args` and checks that it succeeded.
+fn crestline<I: IntoIterator<Item = S>, S: AsRef<OsStr>>(args: I) {
     let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(["curvature", "--saliency", "-o"])
-        .arg(&ply)
+        .args(args)
         .output()
         .unwrap();
     assert!(
@@ -16,6 +17,18 @@ fn curvature_writes_ply_properties_and_csv_columns() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+#[test]
+fn curvature_writes_ply_properties_and_csv_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = dir.path().join("fields.ply");
+    crestline([
+        OsStr::new("curvature"),
+        "--saliency".as_ref(),
+        "-o".as_ref(),
+        ply.as_os_str(),
+    ]);
     let bytes = std::fs::read(&ply).unwrap();
     let end = bytes.windows(10).position(|w| w == b"end_header").unwrap();
     let header = String::from_utf8_lossy(&bytes[..end]);
@@ -41,16 +54,8 @@ fn curvature_writes_ply_properties_and_csv_columns() {
     assert!(header.contains("element vertex 6475"));
 
     let csv = dir.path().join("fields.csv");
-    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(["curvature", "--estimator", "cubic-fit", "--csv", "-o"])
-        .arg(&csv)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let args = ["curvature", "--estimator", "cubic-fit", "--csv", "-o"];
+    crestline(args.iter().map(OsStr::new).chain([csv.as_os_str()]));
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut rows = text.lines();
     assert_eq!(
@@ -77,20 +82,82 @@ fn extract_writes_lines_and_a_picture() {
     let dir = tempfile::tempdir().unwrap();
     let lines = dir.path().join("lines.obj");
     let png = dir.path().join("lines.png");
-    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(["extract", "--method", "ybs", "-q", "-o"])
-        .arg(&lines)
-        .arg("--png")
-        .arg(&png)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    crestline([
+        OsStr::new("extract"),
+        "--method".as_ref(),
+        "ybs".as_ref(),
+        "-q".as_ref(),
+        "-o".as_ref(),
+        lines.as_os_str(),
+        "--png".as_ref(),
+        png.as_os_str(),
+    ]);
     let text = std::fs::read_to_string(&lines).unwrap();
     assert!(text.contains("o ridges"));
     assert!(text.lines().filter(|l| l.starts_with("l ")).count() >= 10);
     assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+}
+
+#[test]
+fn curvature_saliency_writes_curv_and_saliency_values() {
+    // Built-in example (fandisk), cubic fit as the saliency method uses it; CSV keeps full
+    // precision, the ascii PLY holds the same values as f32 vertex properties.
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("fields.csv");
+    let ply = dir.path().join("fields.ply");
+    for (out, extra) in [(&csv, "--csv"), (&ply, "--ascii")] {
+        let args = [
+            "curvature",
+            "--estimator",
+            "cubic-fit",
+            "--saliency",
+            extra,
+            "-o",
+        ];
+        crestline(args.iter().map(OsStr::new).chain([out.as_os_str()]));
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut rows = text.lines();
+    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (k_max, k_min, curv, saliency) = (col("k_max"), col("k_min"), col("curv"), col("saliency"));
+    assert_eq!(header.len(), 15);
+    let values: Vec<Vec<f64>> = rows
+        .map(|r| r.split(',').map(|t| t.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(values.len(), 6475);
+    let mut with_variation = 0;
+    for row in &values {
+        // Curv is the largest absolute principal curvature; S = 0.4 Curv + 0.6 Var, Var ≥ 0.
+        assert_eq!(row[curv], row[k_max].abs().max(row[k_min].abs()));
+        assert!(row[saliency].is_finite());
+        assert!(row[saliency] >= 0.4 * row[curv] * (1.0 - 1e-12), "{row:?}");
+        if row[saliency] > 0.4 * row[curv] * (1.0 + 1e-6) {
+            with_variation += 1;
+        }
+    }
+    assert!(with_variation > values.len() / 2, "{with_variation}");
+
+    let text = std::fs::read_to_string(&ply).unwrap();
+    let (head, body) = text.split_once("end_header\n").unwrap();
+    // The vertex element's properties, in order (x, y, z are doubles, the fields floats).
+    let properties: Vec<&str> = head
+        .lines()
+        .skip_while(|l| !l.starts_with("element vertex"))
+        .skip(1)
+        .take_while(|l| l.starts_with("property"))
+        .map(|l| l.rsplit(' ').next().unwrap())
+        .collect();
+    let at = |name: &str| properties.iter().position(|p| *p == name).unwrap();
+    let (ply_curv, ply_saliency) = (at("curv"), at("saliency"));
+    assert_eq!(properties.len(), 15);
+    for (line, row) in body.lines().zip(&values) {
+        // Shortest round-trip f32 text: parsing it gives back the f32 written.
+        let fields: Vec<f32> = line
+            .split_whitespace()
+            .map(|t| t.parse().unwrap())
+            .collect();
+        assert_eq!(fields[ply_curv], row[curv] as f32);
+        assert_eq!(fields[ply_saliency], row[saliency] as f32);
+    }
 }

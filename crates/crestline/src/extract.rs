@@ -19,10 +19,16 @@
 //! ([`crate::saliency`]), an automatic threshold on it ([`crate::threshold`]) and the linking
 //! rules ([`crate::lines::link`]).
 //!
-//! `auto_threshold` applies the same knee search to the strengths of the traced lines (HPW,
-//! YBS) and to the saliency (Saliency). When the strengths have no knee, HPW and YBS fall back
-//! to their fixed default (all lines alike may be all features — the 12 edges of a cube — or
-//! all noise); the saliency method keeps no point, since a flat saliency curve means a shape
+//! `auto_threshold` applies the knee search of [`crate::threshold`] to the saliency
+//! (Saliency, the paper's procedure) or to the strengths of the traced lines (HPW, YBS). For
+//! lines the fixed threshold `filter.threshold` becomes a noise floor: the search runs, on the
+//! log scale, over the lines that pass both it and the minimum length, and can only raise it.
+//! The floor is what keeps shapes without crest lines empty: T is dimensionless and the
+//! spurious lines of a sphere or a torus stay below 1 (measured: ≤ 0.52 on
+//! `icosphere(2, 5)`, ≤ 0.45 on `torus(3, 1, 120, 40)` with YBS), while among such lines a
+//! knee is easily found (their strengths span five orders of magnitude). When the strengths
+//! have no knee (all lines alike: the 12 edges of a cube, or no line above the floor) the
+//! floor stays; the saliency method keeps no point, since a flat saliency curve means a shape
 //! without salient parts (a sphere, a torus).
 
 use std::time::{Duration, Instant};
@@ -67,7 +73,8 @@ pub struct ExtractOptions {
     /// (YBS): none, the paper does not smooth extremalities.
     pub smoothing: ExtremalitySmoothing,
     /// Step 6: thresholds. Default (HPW): T ≥ [`HPW_DEFAULT_THRESHOLD`], length ≥ 1% of the
-    /// diagonal; (YBS): T ≥ [`YBS_DEFAULT_THRESHOLD`], length ≥ 1%. HPW filter with the
+    /// diagonal; (YBS): T ≥ [`YBS_DEFAULT_THRESHOLD`] as the floor of the automatic threshold
+    /// (see `auto_threshold`), length ≥ 1%. HPW filter with the
     /// curvature integral of Ohtake et al.; that measure cannot tell spurious lines on Dupin
     /// cyclides (a torus: ∫|k| ds is large along any line there) from crest lines, while T,
     /// built on the cyclideness, is ≈ 0 on them — so T is the default for both methods.
@@ -80,17 +87,28 @@ pub struct ExtractOptions {
     pub saliency: SaliencyOptions,
     /// Feature-point linking (Saliency only). Default: [`LinkOptions::default`].
     pub link: LinkOptions,
-    /// Choose the threshold by the knee search instead of `filter.threshold`.
-    /// Default: false for HPW and YBS, true for Saliency.
+    /// Choose the threshold by the knee search: for Saliency instead of `filter.threshold`,
+    /// for HPW and YBS above it (see the module docs). Default: true for YBS and Saliency,
+    /// false for HPW.
+    ///
+    /// Why (measured on the shared meshes, table in BENCHMARKS.md): YBS's fixed T ≥ 1 keeps
+    /// hundreds of weak lines on scanned meshes (igea 1,733 lines, 77 diagonals long) and a
+    /// few on fandisk's flat faces; the knee keeps the salient ones (igea 275, 28 diagonals;
+    /// fandisk's creases all kept, the flat-face lines gone) and changes nothing where the
+    /// strengths have no knee (beetle, teapot, spheres, tori). HPW's extremality smoothing
+    /// already leaves few weak lines: the knee changes little (igea 329 → 320) or drops
+    /// genuine ones (fandisk 13 → 5, the bunny's eye line), so HPW keeps its fixed threshold.
     pub auto_threshold: bool,
-    /// The knee search. Default: the paper's parameters.
+    /// The knee search. Default: [`KneeSearch::default`] (the paper's) for Saliency,
+    /// [`KneeSearch::for_strengths`] for HPW and YBS.
     pub knee: KneeSearch,
 }
 
 /// Default threshold of the HPW pipeline on T (dimensionless). Measured: spurious lines on a
 /// torus have T ≈ 0.01, the ellipsoid's crest line T ≈ 40, fandisk's creases T ≈ 2 to 13.
 pub const HPW_DEFAULT_THRESHOLD: f64 = 1.0;
-/// Default threshold of the YBS pipeline on T (dimensionless, as in the paper's figures).
+/// Default threshold of the YBS pipeline on T (dimensionless, as in the paper's figures):
+/// the floor of its automatic threshold, and the threshold when the strengths have no knee.
 pub const YBS_DEFAULT_THRESHOLD: f64 = 1.0;
 /// Default minimum line length, as a fraction of the bounding-box diagonal.
 pub const DEFAULT_MIN_LENGTH: f64 = 0.01;
@@ -114,7 +132,7 @@ impl ExtractOptions {
                 saliency: SaliencyOptions::default(),
                 link: LinkOptions::default(),
                 auto_threshold: false,
-                knee: KneeSearch::default(),
+                knee: KneeSearch::for_strengths(),
             },
             Method::Ybs => ExtractOptions {
                 method,
@@ -133,11 +151,12 @@ impl ExtractOptions {
                 gaps: Some(GapJumping::default()),
                 saliency: SaliencyOptions::default(),
                 link: LinkOptions::default(),
-                auto_threshold: false,
-                knee: KneeSearch::default(),
+                auto_threshold: true,
+                knee: KneeSearch::for_strengths(),
             },
             Method::Saliency => ExtractOptions {
                 auto_threshold: true,
+                knee: KneeSearch::default(),
                 filter: LineFilter {
                     measure: StrengthMeasure::CurvatureIntegral,
                     threshold: 0.0,
@@ -211,9 +230,11 @@ pub struct ExtractStats {
     pub valleys: usize,
     /// Total length of the lines kept.
     pub total_length: f64,
-    /// The strength threshold applied (for Saliency: the saliency threshold).
+    /// The strength threshold applied (for Saliency: the saliency threshold; infinite when
+    /// the automatic search found no knee, so that no vertex is a feature point).
     pub threshold: f64,
-    /// True when the threshold came from the knee search.
+    /// True when the threshold came from the knee search (false when it was not asked for,
+    /// or found no knee).
     pub threshold_is_auto: bool,
     /// Gaps jumped (YBS).
     pub gaps_jumped: usize,
@@ -297,8 +318,9 @@ pub fn extract_with_progress(
         Method::Saliency => {
             let saliency = mesh_saliency(surface, &curvature, &options.saliency)?;
             let threshold = if options.auto_threshold {
-                stats.threshold_is_auto = true;
-                seek_threshold(&saliency.saliency, &options.knee).unwrap_or(f64::INFINITY)
+                let knee = seek_threshold(&saliency.saliency, &options.knee);
+                stats.threshold_is_auto = knee.is_some();
+                knee.unwrap_or(f64::INFINITY)
             } else {
                 options.filter.threshold
             };
@@ -320,9 +342,17 @@ pub fn extract_with_progress(
     let t = clock.begin(Stage::Filtering);
     if options.method != Method::Saliency {
         if options.auto_threshold {
-            let strengths: Vec<f64> = traced.lines.iter().map(|l| filter.measure.of(l)).collect();
+            // The candidates: lines that pass the floor and the length filter.
+            let min_length = filter.min_length * diagonal;
+            let strengths: Vec<f64> = traced
+                .lines
+                .iter()
+                .filter(|l| l.length >= min_length)
+                .map(|l| filter.measure.of(l))
+                .filter(|&t| t >= filter.threshold)
+                .collect();
             if let Some(knee) = seek_threshold(&strengths, &options.knee) {
-                filter.threshold = knee;
+                filter.threshold = filter.threshold.max(knee);
                 stats.threshold_is_auto = true;
             }
         }

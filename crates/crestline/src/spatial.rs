@@ -1,10 +1,12 @@
 //! Uniform grids for spatial queries.
 //!
 //! - [`PointGrid`]: points bucketed into cubic cells of a chosen size (compressed rows over
-//!   the cells, points of a cell contiguous). A query with radius `r <= cell size` visits the
-//!   27 cells around the query point. Building is O(n log n) (one sort), a query O(points
-//!   nearby). The cell count is capped so that a tiny cell size on a huge box cannot exhaust
-//!   memory: cells then grow, queries stay correct, only slower.
+//!   the cells; the points are stored in cell order, so a query reads them contiguously).
+//!   A query with radius `r <= cell size` visits the 27 cells around the query point.
+//!   Building is O(n) (a counting sort), a query O(points nearby). The cell count is capped
+//!   so that a tiny cell size on a huge box cannot exhaust memory: cells then grow, queries
+//!   stay correct, only slower. Per-point data permuted by [`PointGrid::order`] can be read
+//!   in the same order ([`PointGrid::for_each_run_near`]).
 //! - [`FaceGrid`]: a mesh's triangles, for the exact nearest point on the surface (used to
 //!   put feature lines read from files onto a mesh, and to measure how far one surface is
 //!   from another). Built in O(F), with the same cap on the cell count.
@@ -18,8 +20,10 @@ pub struct PointGrid {
     cell: f64,
     dims: [usize; 3],
     cell_offsets: Vec<u32>,
+    /// Slot → point index (cell order).
     order: Vec<u32>,
-    points: Vec<Vec3>,
+    /// The points in slot order.
+    sorted: Vec<Vec3>,
 }
 
 impl PointGrid {
@@ -70,14 +74,20 @@ impl PointGrid {
             order[cursor[k] as usize] = i as u32;
             cursor[k] += 1;
         }
+        let sorted = order.iter().map(|&i| points[i as usize]).collect();
         PointGrid {
             origin: min,
             cell,
             dims,
             cell_offsets,
             order,
-            points: points.to_vec(),
+            sorted,
         }
+    }
+
+    /// The point indices in cell order: slot `j` holds point `order()[j]`.
+    pub fn order(&self) -> &[u32] {
+        &self.order
     }
 
     /// The cell size actually used (>= the requested one).
@@ -89,24 +99,66 @@ impl PointGrid {
     /// `radius` may exceed the cell size; more cells are then visited.
     pub fn for_each_within(&self, p: Vec3, radius: f64, mut visit: impl FnMut(u32, f64)) {
         let r2 = radius * radius;
-        let reach = (radius / self.cell).ceil() as isize;
-        let c = [0, 1, 2].map(|k| ((p[k] - self.origin[k]) / self.cell).floor() as isize);
-        let lo = |k: usize| (c[k] - reach).max(0);
-        let hi = |k: usize| (c[k] + reach).min(self.dims[k] as isize - 1);
-        for z in lo(2)..=hi(2) {
-            for y in lo(1)..=hi(1) {
-                let row = (z as usize * self.dims[1] + y as usize) * self.dims[0];
-                let (x0, x1) = (lo(0), hi(0));
+        self.for_each_run_near(p, radius, |run| {
+            for (slot, q) in run.clone().zip(&self.sorted[run]) {
+                let d2 = (q - p).norm_squared();
+                if d2 <= r2 {
+                    visit(self.order[slot], d2);
+                }
+            }
+        });
+    }
+
+    /// Calls `visit(slots)` with runs of consecutive slots (positions in
+    /// [`PointGrid::order`]) that together hold every point within `radius` of `p`, and
+    /// other points of the same cells: the caller tests the distances. Data stored in slot
+    /// order is then read contiguously.
+    pub fn for_each_run_near(
+        &self,
+        p: Vec3,
+        radius: f64,
+        mut visit: impl FnMut(std::ops::Range<usize>),
+    ) {
+        // Cell coordinates of p (unclamped: p may lie outside the grid).
+        let q = p - self.origin;
+        // floor(x / cell) for x >= 0, and -1 ("before cell 0") for x < 0: all the clamped
+        // ranges below need (and cheaper than `f64::floor`, a library call on baseline x86-64).
+        let cell_of = |x: f64| {
+            let t = x / self.cell;
+            if t < 0.0 { -1 } else { t as isize }
+        };
+        let range = |k: usize, half: f64| {
+            (
+                cell_of(q[k] - half).max(0),
+                cell_of(q[k] + half).min(self.dims[k] as isize - 1),
+            )
+        };
+        // Distance from coordinate x to the slab of cells number i along one axis.
+        let gap = |x: f64, i: isize| {
+            let (a, b) = (i as f64 * self.cell, (i + 1) as f64 * self.cell);
+            (a - x).max(x - b).max(0.0)
+        };
+        let r2 = radius * radius;
+        let (z0, z1) = range(2, radius);
+        let (y0, y1) = range(1, radius);
+        for z in z0..=z1 {
+            let dz = gap(q.z, z);
+            for y in y0..=y1 {
+                // The ball meets this row of cells in a chord of half-length hx.
+                let dy = gap(q.y, y);
+                let h2 = r2 - dy * dy - dz * dz;
+                if h2 < 0.0 {
+                    continue;
+                }
+                let (x0, x1) = range(0, h2.sqrt());
                 if x0 > x1 {
                     continue;
                 }
+                let row = (z as usize * self.dims[1] + y as usize) * self.dims[0];
                 let start = self.cell_offsets[row + x0 as usize] as usize;
                 let end = self.cell_offsets[row + x1 as usize + 1] as usize;
-                for &i in &self.order[start..end] {
-                    let d2 = (self.points[i as usize] - p).norm_squared();
-                    if d2 <= r2 {
-                        visit(i, d2);
-                    }
+                if start < end {
+                    visit(start..end);
                 }
             }
         }

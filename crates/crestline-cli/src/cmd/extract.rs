@@ -78,7 +78,8 @@ pub struct Args {
     #[arg(long, value_name = "LAMBDA")]
     pub direction_support: Option<f64>,
     /// Strength threshold, or `auto` to pick it from the knee of the sorted strengths.
-    /// HPW and YBS: the strength T of YBS eq. 5 (default 1); saliency: the saliency (default auto).
+    /// HPW: the strength T of YBS eq. 5, default 1. YBS: default auto (the knee of the
+    /// strengths above T = 1; 1 when there is none). Saliency: the saliency, default auto.
     #[arg(long)]
     pub threshold: Option<String>,
     /// Minimum line length as a fraction of the bounding-box diagonal (default 0.01).
@@ -182,6 +183,16 @@ pub fn run(args: Args) -> Result<()> {
         );
         if s.threshold_is_auto {
             eprintln!("automatic threshold: {:.6}", s.threshold);
+        } else if options.auto_threshold {
+            match options.method {
+                Method::Saliency => {
+                    eprintln!("automatic threshold: the saliency has no knee, no feature points")
+                }
+                _ => eprintln!(
+                    "automatic threshold: the line strengths have no knee, kept T >= {}",
+                    s.threshold
+                ),
+            }
         }
     }
     match args.stats {

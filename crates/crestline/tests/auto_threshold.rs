@@ -1,0 +1,246 @@
+//! Automatic thresholds (issue 6): on fandisk the knee keeps the sharp creases and drops the
+//! flat faces; on a sphere and a torus it leaves (almost) no lines.
+//!
+//! Fandisk's sharp creases are its edges with a dihedral angle above 30° (722 edges, 9.2
+//! diagonals long; between 10° and 30° lie only a fading crease and the rounded fillets,
+//! below 10° the tessellation of smooth faces). "Flat" means farther than 3% of the diagonal
+//! (about two mean edge lengths) from every edge above 10°.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::{Path, PathBuf};
+
+use crestline::extract::{ExtractOptions, Extraction, Method, extract};
+use crestline::io::read_mesh;
+use crestline::lines::FeatureLines;
+use crestline::mesh::face_normals;
+use crestline::spatial::PointGrid;
+use crestline::{TriMesh, Vec3, shapes};
+
+/// Fandisk from the shared meshes, or `None` (with a loud note) when they are missing.
+fn fandisk() -> Option<TriMesh> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
+    let path: PathBuf = dir.join("fandisk.obj");
+    if !path.is_file() {
+        eprintln!(
+            "SKIPPED: {} is missing (the shared test meshes, see shared/data/README.md)",
+            path.display()
+        );
+        return None;
+    }
+    Some(read_mesh(&path, None).unwrap())
+}
+
+/// Interior edges whose faces meet at more than `degrees`.
+fn crease_edges(mesh: &TriMesh, degrees: f64) -> Vec<[u32; 2]> {
+    let normals = face_normals(mesh);
+    let topo = mesh.topology();
+    let cos = degrees.to_radians().cos();
+    topo.edges()
+        .iter()
+        .enumerate()
+        .filter(|&(e, _)| match topo.edge_faces(e as u32) {
+            [f, g] => normals[*f as usize].dot(&normals[*g as usize]) < cos,
+            _ => false,
+        })
+        .map(|(_, &edge)| edge)
+        .collect()
+}
+
+fn creases(mesh: &TriMesh, degrees: f64) -> Vec<[Vec3; 2]> {
+    crease_edges(mesh, degrees)
+        .into_iter()
+        .map(|[a, b]| [mesh.position(a), mesh.position(b)])
+        .collect()
+}
+
+/// Points every `step` along segments (both ends included).
+fn sample(segments: impl Iterator<Item = [Vec3; 2]>, step: f64) -> Vec<Vec3> {
+    let mut out = Vec::new();
+    for [a, b] in segments {
+        let n = ((b - a).norm() / step).ceil().max(1.0) as usize;
+        out.extend((0..=n).map(|i| a + (b - a) * (i as f64 / n as f64)));
+    }
+    out
+}
+
+fn line_segments(lines: &FeatureLines) -> impl Iterator<Item = [Vec3; 2]> + '_ {
+    lines.lines.iter().flat_map(|l| {
+        let n = l.points.len();
+        let segments = if l.closed { n } else { n.saturating_sub(1) };
+        (0..segments).map(move |i| [l.points[i], l.points[(i + 1) % n]])
+    })
+}
+
+struct Fit {
+    /// Fraction of the sharp-crease length (edge midpoints) within 1% of the diagonal of a line.
+    coverage: f64,
+    /// Fraction of the line length farther than 3% of the diagonal from every edge above 10°.
+    flat: f64,
+    /// Line length over sharp-crease length.
+    length_ratio: f64,
+}
+
+fn fit(mesh: &TriMesh, lines: &FeatureLines) -> Fit {
+    let diagonal = mesh.bounding_box().diagonal();
+    let (near, far) = (0.01 * diagonal, 0.03 * diagonal);
+    let sharp = creases(mesh, 30.0);
+    let line_points = sample(line_segments(lines), 0.25 * near);
+    let grid = PointGrid::new(&line_points, near);
+    let (mut covered, mut total) = (0.0, 0.0);
+    for [a, b] in &sharp {
+        let length = (b - a).norm();
+        total += length;
+        if grid.nearest_within((a + b) * 0.5, near).is_some() {
+            covered += length;
+        }
+    }
+    let features = sample(creases(mesh, 10.0).into_iter(), 0.25 * far);
+    let feature_grid = PointGrid::new(&features, far);
+    let flat = line_points
+        .iter()
+        .filter(|&&p| feature_grid.nearest_within(p, far).is_none())
+        .count();
+    Fit {
+        coverage: covered / total,
+        flat: flat as f64 / line_points.len().max(1) as f64,
+        length_ratio: lines.total_length() / total,
+    }
+}
+
+fn run(mesh: &TriMesh, method: Method) -> Extraction {
+    let options = ExtractOptions {
+        auto_threshold: true,
+        ..ExtractOptions::for_method(method)
+    };
+    extract(mesh, &options).unwrap()
+}
+
+fn check_fandisk(method: Method) {
+    let Some(mesh) = fandisk() else { return };
+    let result = run(&mesh, method);
+    let s = &result.stats;
+    assert!(s.threshold_is_auto, "{method:?}: no knee found");
+    let f = fit(&mesh, &result.lines);
+    eprintln!(
+        "{method:?}: threshold {:.4}, {} lines, crease coverage {:.3}, flat {:.3}, length ratio {:.2}",
+        s.threshold, s.lines, f.coverage, f.flat, f.length_ratio
+    );
+    // Measured: YBS 0.987 / 0.028 / 1.08, saliency 0.958 / 0.000 / 1.18.
+    assert!(
+        f.coverage >= 0.9,
+        "{method:?}: lines cover {:.3} of the creases",
+        f.coverage
+    );
+    assert!(
+        f.flat <= 0.05,
+        "{method:?}: {:.3} of the line length lies on flat faces",
+        f.flat
+    );
+    assert!(
+        f.length_ratio <= 1.5,
+        "{method:?}: lines {:.2} times as long as the creases",
+        f.length_ratio
+    );
+}
+
+#[test]
+fn ybs_automatic_threshold_keeps_fandisks_creases() {
+    check_fandisk(Method::Ybs);
+}
+
+#[test]
+fn saliency_automatic_threshold_keeps_fandisks_creases() {
+    check_fandisk(Method::Saliency);
+}
+
+#[test]
+fn saliency_knee_separates_fandisks_crease_vertices_from_its_flat_ones() {
+    // The threshold itself, before any linking: vertices above it are feature points.
+    let Some(mesh) = fandisk() else { return };
+    let options = ExtractOptions::for_method(Method::Saliency);
+    let curvature = crestline::curvature::estimate(&mesh, &options.curvature).unwrap();
+    let s = crestline::saliency::mesh_saliency(&mesh, &curvature, &options.saliency).unwrap();
+    let t = crestline::threshold::seek_threshold(&s.saliency, &options.knee).unwrap();
+    let diagonal = mesh.bounding_box().diagonal();
+    let far = 0.03 * diagonal;
+    let features = sample(creases(&mesh, 10.0).into_iter(), 0.25 * far);
+    let feature_grid = PointGrid::new(&features, far);
+    let mut crease_vertices: Vec<usize> = crease_edges(&mesh, 30.0)
+        .into_iter()
+        .flatten()
+        .map(|v| v as usize)
+        .collect();
+    crease_vertices.sort_unstable();
+    crease_vertices.dedup();
+    let flat_vertices: Vec<usize> = (0..mesh.num_vertices())
+        .filter(|&v| {
+            feature_grid
+                .nearest_within(mesh.positions()[v], far)
+                .is_none()
+        })
+        .collect();
+    let kept = |vs: &[usize]| vs.iter().filter(|&&v| s.saliency[v] > t).count();
+    // Measured: 676 of 712 crease vertices, 0 of 2,850 flat ones.
+    assert!(
+        kept(&crease_vertices) as f64 >= 0.9 * crease_vertices.len() as f64,
+        "threshold {t}: {} of {} crease vertices",
+        kept(&crease_vertices),
+        crease_vertices.len()
+    );
+    assert!(flat_vertices.len() > 2000);
+    assert!(
+        kept(&flat_vertices) as f64 <= 0.01 * flat_vertices.len() as f64,
+        "threshold {t}: {} of {} flat vertices",
+        kept(&flat_vertices),
+        flat_vertices.len()
+    );
+}
+
+#[test]
+fn sphere_and_torus_have_almost_no_lines_with_automatic_thresholds() {
+    let meshes = [
+        ("sphere", shapes::icosphere(2.0, 4)),
+        ("sphere, finer", shapes::icosphere(2.0, 5)),
+        ("torus", shapes::torus(3.0, 1.0, 120, 40)),
+    ];
+    for (name, mesh) in &meshes {
+        let diagonal = mesh.bounding_box().diagonal();
+        for method in [Method::Hpw, Method::Ybs, Method::Saliency] {
+            let result = run(mesh, method);
+            let length = result.lines.total_length();
+            assert!(
+                length < 0.05 * diagonal,
+                "{name}, {method:?}: {} lines, {:.3} diagonals (threshold {}, auto {})",
+                result.lines.lines.len(),
+                length / diagonal,
+                result.stats.threshold,
+                result.stats.threshold_is_auto
+            );
+        }
+    }
+}
+
+#[test]
+fn ybs_runs_with_the_automatic_threshold_by_default_and_a_number_overrides_it() {
+    let ybs = ExtractOptions::for_method(Method::Ybs);
+    assert!(ybs.auto_threshold);
+    assert!(!ExtractOptions::for_method(Method::Hpw).auto_threshold);
+    assert!(ExtractOptions::for_method(Method::Saliency).auto_threshold);
+    // On a shape with a knee (the pillow box: 12 crease lines and weaker lines on its
+    // curved faces) the automatic threshold is at least the fixed floor.
+    let (mesh, _) = shapes::pillow_box(1.0, 0.25, 40);
+    let auto = extract(&mesh, &ybs).unwrap();
+    assert!(auto.stats.threshold >= ybs.filter.threshold);
+    let fixed = extract(
+        &mesh,
+        &ExtractOptions {
+            auto_threshold: false,
+            ..ybs.clone()
+        },
+    )
+    .unwrap();
+    assert!(!fixed.stats.threshold_is_auto);
+    assert_eq!(fixed.stats.threshold, ybs.filter.threshold);
+    assert!(auto.stats.lines <= fixed.stats.lines);
+}
