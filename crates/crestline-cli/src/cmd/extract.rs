@@ -63,7 +63,8 @@ pub struct Args {
     /// The method.
     #[arg(long, value_enum, default_value = "hpw")]
     pub method: MethodArg,
-    /// Extremality smoothing steps (HPW; default 3, 0 turns it off).
+    /// Extremality smoothing steps (HPW default 3; YBS default 2, where 0 is YBS as
+    /// published; 0 turns it off).
     #[arg(long)]
     pub smooth_steps: Option<usize>,
     /// Extremality smoothing step size, relative to the squared mean edge length (default 1).

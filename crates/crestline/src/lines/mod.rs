@@ -137,6 +137,7 @@ pub fn trace_crest_lines(
         let family = trace::Family::of(curvature, kind);
         let segments = trace_edges::trace_crest_edges(mesh, &family);
         let mut family_lines = assemble::assemble_lines(mesh, &family, &segments);
+        trace_edges::place_junctions(mesh, &family, &mut family_lines);
         if let Some(options) = gaps {
             joins += gap::jump_gaps(mesh, &family, &mut family_lines, options);
         }
