@@ -51,7 +51,9 @@ use crate::lines::fair::{Fairing, fair_lines};
 use crate::lines::filter::{LineFilter, StrengthMeasure, filter_lines};
 use crate::lines::gap::GapJumping;
 use crate::lines::link::{LinkOptions, link_feature_points};
-use crate::lines::{FeatureLines, LineKind, TraceReport, trace_crest_lines, trace_lines};
+use crate::lines::{
+    FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
+};
 use crate::mesh::TriMesh;
 use crate::saliency::{SaliencyOptions, mesh_saliency};
 use crate::smoothing::extremality::{ExtremalitySmoothing, smooth_extremalities};
@@ -197,8 +199,11 @@ pub enum Stage {
     Curvature,
     /// Step 3.
     ExtremalitySmoothing,
-    /// Steps 4–6 before filtering (for Saliency: saliency and linking).
+    /// Steps 4–6 before filtering (for Saliency: saliency and linking; for YBS: without gap
+    /// jumping).
     Tracing,
+    /// YBS's gap jumping.
+    GapJumping,
     /// Step 6.
     Filtering,
     /// Step 7.
@@ -213,6 +218,7 @@ impl Stage {
             Stage::Curvature => "curvature",
             Stage::ExtremalitySmoothing => "extremality smoothing",
             Stage::Tracing => "tracing",
+            Stage::GapJumping => "gap jumping",
             Stage::Filtering => "filtering",
             Stage::Fairing => "fairing",
         }
@@ -228,7 +234,7 @@ pub struct ExtractStats {
     pub trace: TraceReport,
     /// Vertices whose curvature needed a fallback.
     pub fallback_vertices: usize,
-    /// Lines before filtering.
+    /// Lines before filtering (after gap jumping).
     pub lines_traced: usize,
     /// Lines kept.
     pub lines: usize,
@@ -310,17 +316,13 @@ pub fn extract_with_progress(
     let t = clock.begin(Stage::Tracing);
     let diagonal = mesh.bounding_box().diagonal();
     let mut filter = options.filter;
-    let traced = match options.method {
+    let mut traced = match options.method {
         Method::Hpw => {
             let (traced, report) = trace_lines(surface, &curvature);
             stats.trace = report;
             traced
         }
-        Method::Ybs => {
-            let (traced, joins) = trace_crest_lines(surface, &curvature, options.gaps.as_ref());
-            stats.gaps_jumped = joins;
-            traced
-        }
+        Method::Ybs => trace_crest_lines(surface, &curvature, None).0,
         Method::Saliency => {
             let saliency = mesh_saliency(surface, &curvature, &options.saliency)?;
             let threshold = if options.auto_threshold {
@@ -341,8 +343,13 @@ pub fn extract_with_progress(
             )
         }
     };
-    stats.lines_traced = traced.lines.len();
     clock.end(Stage::Tracing, t);
+    if let (Method::Ybs, Some(gaps)) = (options.method, options.gaps.as_ref()) {
+        let t = clock.begin(Stage::GapJumping);
+        stats.gaps_jumped = jump_crest_gaps(surface, &curvature, &mut traced, gaps);
+        clock.end(Stage::GapJumping, t);
+    }
+    stats.lines_traced = traced.lines.len();
 
     let t = clock.begin(Stage::Filtering);
     if options.method != Method::Saliency {

@@ -142,27 +142,22 @@ fn raising_t_removes_the_lines_on_spherical_and_cylindrical_parts_but_keeps_the_
 /// (`k_min = −10` against `k_max = 1`). `e_min = 0`, so nothing else is traced.
 fn ridge_fields(mesh: &TriMesh, field: impl Fn(Vec3) -> Option<(Vec3, f64)>) -> Curvature {
     let n = mesh.num_vertices();
-    let mut c = Curvature {
+    // (dir_max, e_max, k_min) per vertex.
+    let per_vertex: Vec<(Vec3, f64, f64)> = mesh
+        .positions()
+        .iter()
+        .map(|&p| field(p).map_or((Vec3::y(), 0.0, -10.0), |(dir, e)| (dir, e, 0.0)))
+        .collect();
+    Curvature {
         k_max: vec![1.0; n],
-        k_min: vec![0.0; n],
-        dir_max: vec![Vec3::y(); n],
-        dir_min: vec![Vec3::x(); n],
-        e_max: vec![0.0; n],
+        k_min: per_vertex.iter().map(|x| x.2).collect(),
+        dir_max: per_vertex.iter().map(|x| x.0).collect(),
+        dir_min: per_vertex.iter().map(|x| Vec3::z().cross(&x.0)).collect(),
+        e_max: per_vertex.iter().map(|x| x.1).collect(),
         e_min: vec![0.0; n],
         normals: vec![Vec3::z(); n],
         fallback_vertices: 0,
-    };
-    for (v, &p) in mesh.positions().iter().enumerate() {
-        match field(p) {
-            Some((dir, e)) => {
-                c.dir_max[v] = dir;
-                c.dir_min[v] = Vec3::z().cross(&dir);
-                c.e_max[v] = e;
-            }
-            None => c.k_min[v] = -10.0,
-        }
     }
-    c
 }
 
 /// The ridge of `e = −⟨p − point, normal⟩` (falling along `normal`): the line through `point`

@@ -1,7 +1,7 @@
 //! `crestline extract`: feature lines of a mesh, written as OBJ, PLY or JSON.
 
 use std::path::{Path, PathBuf};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
@@ -119,7 +119,9 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
+    let clock = Instant::now();
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.input_format)?;
+    let load = clock.elapsed();
     let options = options_from_args(&args, &mesh)?;
     let extraction = run_with_progress(&mesh, &options, args.quiet)?;
 
@@ -135,12 +137,17 @@ pub fn run(args: Args) -> Result<()> {
     let format = format
         .or_else(|| LinesFormat::from_path(&output))
         .unwrap_or(LinesFormat::Obj);
+    let clock = Instant::now();
     write_lines(
         &output,
         &extraction.lines,
         Some(format),
         PlyEncoding::BinaryLittleEndian,
     )?;
+    let io = IoTimes {
+        load,
+        write: clock.elapsed(),
+    };
 
     let picture_options = crestline::render::RenderOptions::default();
     for (path, write) in [
@@ -171,10 +178,10 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     match args.stats {
-        Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, &mesh)),
+        Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, &mesh, &io)),
         Some(StatsFormat::Json) => println!(
             "{}",
-            serde_json::to_string_pretty(&stats_json(&extraction, &mesh))?
+            serde_json::to_string_pretty(&stats_json(&extraction, &mesh, &io))?
         ),
         None => {}
     }
@@ -356,7 +363,13 @@ pub fn run_with_progress(
     Ok(extract_with_progress(mesh, options, &mut progress)?)
 }
 
-fn stats_text(x: &Extraction, mesh: &TriMesh) -> String {
+/// Wall times of reading the mesh and writing the lines (pictures excluded).
+struct IoTimes {
+    load: Duration,
+    write: Duration,
+}
+
+fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
     let s = &x.stats;
     let pct = |n: usize| 100.0 * n as f64 / s.triangles.max(1) as f64;
     let mut out = String::new();
@@ -386,14 +399,24 @@ fn stats_text(x: &Extraction, mesh: &TriMesh) -> String {
     if s.gaps_jumped > 0 {
         out += &format!("gaps jumped            {}\n", s.gaps_jumped);
     }
-    for (stage, t) in &s.stage_times {
-        out += &format!("time {:<22} {:.3} s\n", stage.name(), t.as_secs_f64());
+    let times = std::iter::once(("load", io.load))
+        .chain(s.stage_times.iter().map(|(stage, t)| (stage.name(), *t)))
+        .chain(std::iter::once(("write", io.write)));
+    for (name, t) in times {
+        out += &format!("time {:<22} {:.3} s\n", name, t.as_secs_f64());
     }
     out
 }
 
-fn stats_json(x: &Extraction, mesh: &TriMesh) -> serde_json::Value {
+fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::Value {
     let s = &x.stats;
+    let mut seconds: serde_json::Map<String, serde_json::Value> = s
+        .stage_times
+        .iter()
+        .map(|(st, t)| (st.name().to_string(), serde_json::json!(t.as_secs_f64())))
+        .collect();
+    seconds.insert("load".into(), serde_json::json!(io.load.as_secs_f64()));
+    seconds.insert("write".into(), serde_json::json!(io.write.as_secs_f64()));
     serde_json::json!({
         "triangles": s.triangles,
         "singular_max": s.trace.singular_max,
@@ -408,6 +431,6 @@ fn stats_json(x: &Extraction, mesh: &TriMesh) -> serde_json::Value {
         "threshold_auto": s.threshold_is_auto,
         "gaps_jumped": s.gaps_jumped,
         "fallback_vertices": s.fallback_vertices,
-        "stage_seconds": s.stage_times.iter().map(|(st, t)| (st.name().to_string(), serde_json::json!(t.as_secs_f64()))).collect::<serde_json::Map<_, _>>(),
+        "stage_seconds": seconds,
     })
 }

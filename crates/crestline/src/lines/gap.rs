@@ -164,7 +164,9 @@ pub fn jump_gaps(
         // Coincident ends: keep one copy of the shared point.
         let skip = usize::from(first.points.last() == second.points.first());
         first.points.extend(second.points.into_iter().skip(skip));
-        first.locations.extend(second.locations.into_iter().skip(skip));
+        first
+            .locations
+            .extend(second.locations.into_iter().skip(skip));
         measure_line(mesh, family, &mut first);
         lines[la] = first;
         alive[lb] = false;
@@ -222,57 +224,76 @@ mod tests {
     use crate::lines::LineKind;
     use crate::shapes;
 
-    /// The face of a flat grid mesh containing (x, y).
-    fn locate(mesh: &TriMesh, x: f64, y: f64) -> SurfacePoint {
-        let inside = |f: usize| {
-            let [a, b, c] = mesh.triangle(f);
-            let side = |p: Vec3, q: Vec3| (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x);
-            let s = [side(a, b), side(b, c), side(c, a)];
-            s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
-        };
-        let face = (0..mesh.num_faces()).find(|&f| inside(f)).unwrap() as u32;
-        SurfacePoint::Face { face }
+    /// A flat 6 × 3 grid of unit cells with zero fields: only the line geometry matters.
+    struct Grid {
+        mesh: TriMesh,
+        zero: Vec<f64>,
+        dirs: Vec<Vec3>,
     }
 
-    fn line(mesh: &TriMesh, pts: &[(f64, f64)]) -> FeatureLine {
-        FeatureLine {
-            kind: LineKind::Ridge,
-            points: pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
-            locations: pts.iter().map(|&(x, y)| locate(mesh, x, y)).collect(),
-            closed: false,
-            length: 0.0,
-            curvature_integral: 0.0,
-            strength: 0.0,
+    impl Grid {
+        fn new() -> Self {
+            let mesh = shapes::height_field(|_, _| 0.0, [0.0, 6.0], [0.0, 3.0], 6, 3);
+            let n = mesh.num_vertices();
+            Grid {
+                mesh,
+                zero: vec![0.0; n],
+                dirs: vec![Vec3::x(); n],
+            }
+        }
+
+        /// The face containing (x, y).
+        fn locate(&self, x: f64, y: f64) -> SurfacePoint {
+            let inside = |f: usize| {
+                let [a, b, c] = self.mesh.triangle(f);
+                let side = |p: Vec3, q: Vec3| (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x);
+                let s = [side(a, b), side(b, c), side(c, a)];
+                s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
+            };
+            let face = (0..self.mesh.num_faces()).find(|&f| inside(f)).unwrap() as u32;
+            SurfacePoint::Face { face }
+        }
+
+        fn line(&self, pts: &[(f64, f64)]) -> FeatureLine {
+            FeatureLine {
+                kind: LineKind::Ridge,
+                points: pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
+                locations: pts.iter().map(|&(x, y)| self.locate(x, y)).collect(),
+                closed: false,
+                length: 0.0,
+                curvature_integral: 0.0,
+                strength: 0.0,
+            }
+        }
+
+        fn jump(&self, lines: &mut Vec<FeatureLine>, options: &GapJumping) -> usize {
+            let family = Family {
+                kind: LineKind::Ridge,
+                k: &self.zero,
+                k_other: &self.zero,
+                e: &self.zero,
+                e_other: &self.zero,
+                dirs: &self.dirs,
+            };
+            jump_gaps(&self.mesh, &family, lines, options)
         }
     }
 
-    /// A ridge family with zero fields (only the line geometry matters here).
-    fn flat_family<'a>(dirs: &'a [Vec3], zero: &'a [f64]) -> Family<'a> {
-        Family {
-            kind: LineKind::Ridge,
-            k: zero,
-            k_other: zero,
-            e: zero,
-            e_other: zero,
-            dirs,
-        }
-    }
+    const ANY_ANGLE: GapJumping = GapJumping {
+        max_end_angle: std::f64::consts::PI,
+        max_turn_angle: std::f64::consts::PI,
+    };
 
     #[test]
     fn joins_broken_pieces_but_not_sharp_corners() {
-        let mesh = shapes::height_field(|_, _| 0.0, [0.0, 6.0], [0.0, 3.0], 6, 3);
-        let n = mesh.num_vertices();
-        let (zero, dirs) = (vec![0.0; n], vec![Vec3::x(); n]);
-        let fam = flat_family(&dirs, &zero);
+        let g = Grid::new();
+        let ybs = GapJumping::default();
         // Two collinear pieces with a gap inside one cell: joined into one line.
         let mut lines = vec![
-            line(&mesh, &[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
-            line(&mesh, &[(4.8, 1.5), (3.8, 1.5), (2.8, 1.5)]),
+            g.line(&[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
+            g.line(&[(4.8, 1.5), (3.8, 1.5), (2.8, 1.5)]),
         ];
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            1
-        );
+        assert_eq!(g.jump(&mut lines, &ybs), 1);
         assert_eq!(lines.len(), 1);
         assert_eq!(lines[0].points.len(), 6);
         assert!((lines[0].length - 4.5).abs() < 1e-12);
@@ -281,64 +302,45 @@ mod tests {
 
         // A piece meeting the first at a right angle: not joined.
         let mut lines = vec![
-            line(&mesh, &[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
-            line(&mesh, &[(2.8, 2.8), (2.8, 2.2), (2.8, 1.6)]),
+            g.line(&[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
+            g.line(&[(2.8, 2.8), (2.8, 2.2), (2.8, 1.6)]),
         ];
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            0
-        );
+        assert_eq!(g.jump(&mut lines, &ybs), 0);
         assert_eq!(lines.len(), 2);
 
         // A piece coming back at a sharp angle (the lines turn by ~150°): not joined, although
-        // the ends are close enough (any angle would join them).
+        // the ends are close enough (any angle joins them; the far ends share a star too, so
+        // the V is then also closed into a loop).
         let v_shape = || {
             vec![
-                line(&mesh, &[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
-                line(&mesh, &[(0.5, 2.8), (1.6, 2.2), (2.7, 1.6)]),
+                g.line(&[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
+                g.line(&[(0.5, 2.8), (1.6, 2.2), (2.7, 1.6)]),
             ]
         };
         let mut lines = v_shape();
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            0
-        );
-        let any_angle = GapJumping {
-            max_end_angle: std::f64::consts::PI,
-            max_turn_angle: std::f64::consts::PI,
-        };
+        assert_eq!(g.jump(&mut lines, &ybs), 0);
         let mut lines = v_shape();
-        // (The far ends share a star too: with any angle the V is also closed into a loop.)
-        assert!(jump_gaps(&mesh, &fam, &mut lines, &any_angle) >= 1);
+        assert!(g.jump(&mut lines, &ANY_ANGLE) >= 1);
         assert_eq!(lines.len(), 1);
 
         // A gentle bend (~30°) is one line continuing: joined.
         let mut lines = vec![
-            line(&mesh, &[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
-            line(&mesh, &[(4.6, 2.5), (3.7, 2.0), (2.8, 1.5)]),
+            g.line(&[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
+            g.line(&[(4.6, 2.5), (3.7, 2.0), (2.8, 1.5)]),
         ];
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            1
-        );
+        assert_eq!(g.jump(&mut lines, &ybs), 1);
 
         // Collinear but too far apart (no common vertex star): not joined.
         let mut lines = vec![
-            line(&mesh, &[(0.3, 1.5), (1.3, 1.5)]),
-            line(&mesh, &[(3.5, 1.5), (4.5, 1.5)]),
+            g.line(&[(0.3, 1.5), (1.3, 1.5)]),
+            g.line(&[(3.5, 1.5), (4.5, 1.5)]),
         ];
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            0
-        );
+        assert_eq!(g.jump(&mut lines, &ANY_ANGLE), 0);
     }
 
     #[test]
     fn closes_a_loop_broken_once() {
-        let mesh = shapes::height_field(|_, _| 0.0, [0.0, 6.0], [0.0, 3.0], 6, 3);
-        let n = mesh.num_vertices();
-        let (zero, dirs) = (vec![0.0; n], vec![Vec3::x(); n]);
-        let fam = flat_family(&dirs, &zero);
+        let g = Grid::new();
         let pts = [
             (2.0, 0.5),
             (5.5, 0.5),
@@ -347,39 +349,31 @@ mod tests {
             (0.5, 0.5),
             (1.4, 0.5),
         ];
-        let mut lines = vec![line(&mesh, &pts)];
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            1
-        );
+        let mut lines = vec![g.line(&pts)];
+        assert_eq!(g.jump(&mut lines, &GapJumping::default()), 1);
         assert_eq!(lines.len(), 1);
         assert!(lines[0].closed);
         assert_eq!(lines[0].points.len(), pts.len());
-        assert!((lines[0].length - 14.0).abs() < 1e-12, "{}", lines[0].length);
-        // A closed line has no ends left to join.
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            0
+        assert!(
+            (lines[0].length - 14.0).abs() < 1e-12,
+            "{}",
+            lines[0].length
         );
+        // A closed line has no ends left to join.
+        assert_eq!(g.jump(&mut lines, &GapJumping::default()), 0);
     }
 
     #[test]
     fn at_a_junction_joins_the_straight_continuation() {
-        let mesh = shapes::height_field(|_, _| 0.0, [0.0, 6.0], [0.0, 3.0], 6, 3);
-        let n = mesh.num_vertices();
-        let (zero, dirs) = (vec![0.0; n], vec![Vec3::x(); n]);
-        let fam = flat_family(&dirs, &zero);
-        // Three lines ending at one point (a trisector-like junction): the branch from above
-        // turns by 90° against either of the other two, which continue each other.
+        let g = Grid::new();
+        // Three lines ending at one point (a three-crest triangle's junction): the branch from
+        // above turns by 90° against either of the other two, which continue each other.
         let mut lines = vec![
-            line(&mesh, &[(3.0, 2.8), (3.0, 1.5)]),
-            line(&mesh, &[(0.3, 1.5), (1.4, 1.5), (3.0, 1.5)]),
-            line(&mesh, &[(5.6, 1.5), (4.1, 1.5), (3.0, 1.5)]),
+            g.line(&[(3.0, 2.8), (3.0, 1.5)]),
+            g.line(&[(0.3, 1.5), (1.4, 1.5), (3.0, 1.5)]),
+            g.line(&[(5.6, 1.5), (4.1, 1.5), (3.0, 1.5)]),
         ];
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            1
-        );
+        assert_eq!(g.jump(&mut lines, &GapJumping::default()), 1);
         assert_eq!(lines.len(), 2);
         let straight = lines.iter().find(|l| l.points.len() == 5).unwrap();
         assert!(straight.points.iter().all(|p| p.y == 1.5));

@@ -11,9 +11,10 @@
 //! "with i = 1 or 2", and the curvature condition at both end points. Here the two end
 //! terms are summed, `e(p) ⟨q − p, dir(p)⟩ + e(q) ⟨p − q, dir(q)⟩ > 0` (`e` falls along the
 //! direction: a maximum; `< 0` a minimum), and the curvature condition is read at the
-//! crossing from the interpolated curvatures. Measured on the ellipsoid and torus checks
-//! (`tests/extract_ybs.rs`), the per-end "or" and "and" readings and the end-point curvature
-//! condition give the same lines.
+//! crossing from the interpolated curvatures. Measured on the ellipsoid (5K and 20K faces, k =
+//! 1 and 3, without extremality smoothing) and the torus of `tests/extract_ybs.rs`, the per-end
+//! "or" and "and" readings and the end-point curvature condition give the same number of
+//! pieces, the same largest distance from the exact crest line and the same coverage.
 //!
 //! Inside each triangle, two crest points on its edges are joined; three are joined to the
 //! centroid of the three points (Ohtake et al.; [`place_junctions`] moves the junction there
