@@ -3,7 +3,8 @@
 //!
 //! Every closed shape is wound counter-clockwise seen from outside, so face and vertex
 //! normals point outward. Vertices lie exactly on the analytic surface.
-//! [`pillow_box`] also returns its exact crease lines, for the simplification tests.
+//! [`pillow_box`] and [`tablet`] also return their exact crease lines, for the simplification
+//! and crest-line tests.
 
 pub mod exact;
 
@@ -314,6 +315,53 @@ pub fn capsule(radius: f64, length: f64, n: usize) -> TriMesh {
     revolve(rows, n, profile)
 }
 
+/// A tablet: a cylinder of `radius` and length `length` along z, closed at both ends by
+/// spherical caps of radius `cap_radius` (≥ `radius`) that meet it at an angle, so the two rim
+/// circles are sharp convex creases. Spherical and cylindrical parts are Dupin cyclides
+/// (e = 0 everywhere); the rims are the only crest lines, returned (like [`pillow_box`]'s
+/// creases) as closed ridges through the rim vertices. `n` is the number of segments around;
+/// rows along the caps and the side are spaced about as far apart as the vertices of a rim.
+pub fn tablet(radius: f64, length: f64, cap_radius: f64, n: usize) -> (TriMesh, FeatureLines) {
+    let n = n.max(3);
+    let cap_radius = cap_radius.max(radius);
+    let spacing = TAU * radius / n as f64;
+    // Polar angle of the rim seen from a cap's centre, and that centre's distance inside the rim.
+    let rim_angle = (radius / cap_radius).asin();
+    let inset = cap_radius * rim_angle.cos();
+    let n_cap = ((cap_radius * rim_angle / spacing).round() as usize).max(2);
+    let n_side = ((length / spacing).round() as usize).max(1);
+    let rows = 2 * n_cap + n_side;
+    let half = length / 2.0;
+    let profile = |j: usize| -> (f64, f64) {
+        if j <= n_cap {
+            let a = rim_angle * j as f64 / n_cap as f64;
+            (cap_radius * a.sin(), -half + inset - cap_radius * a.cos())
+        } else if j < n_cap + n_side {
+            (radius, -half + length * (j - n_cap) as f64 / n_side as f64)
+        } else {
+            let a = rim_angle * (rows - j) as f64 / n_cap as f64;
+            (cap_radius * a.sin(), half - inset + cap_radius * a.cos())
+        }
+    };
+    let mesh = revolve(rows, n, profile);
+    let lines = [n_cap, n_cap + n_side]
+        .into_iter()
+        .map(|j| {
+            let vertices: Vec<u32> = (0..n).map(|i| (1 + (j - 1) * n + i) as u32).collect();
+            FeatureLine {
+                kind: LineKind::Ridge,
+                points: vertices.iter().map(|&v| mesh.position(v)).collect(),
+                locations: vertices.into_iter().map(SurfacePoint::Vertex).collect(),
+                closed: true,
+                length: TAU * radius,
+                curvature_integral: 0.0,
+                strength: 0.0,
+            }
+        })
+        .collect();
+    (mesh, FeatureLines { lines })
+}
+
 /// A surface of revolution about z from a profile `(ring radius, z)` sampled at rows 0..=rows,
 /// where rows 0 and `rows` must be poles (radius 0).
 fn revolve(rows: usize, n: usize, profile: impl Fn(usize) -> (f64, f64)) -> TriMesh {
@@ -452,6 +500,7 @@ mod tests {
             (ellipsoid(3.0, 2.0, 1.0, 2), 2),
             (torus(3.0, 1.0, 24, 12), 0),
             (capsule(1.0, 2.0, 16), 2),
+            (tablet(1.0, 2.0, 1.5, 16).0, 2),
         ] {
             let info = m.info();
             assert!(info.closed, "{info}");
@@ -461,6 +510,7 @@ mod tests {
         assert!(outward(&icosphere(1.0, 1), Vec3::zeros()));
         assert!(outward(&ellipsoid(3.0, 2.0, 1.0, 1), Vec3::zeros()));
         assert!(outward(&capsule(1.0, 2.0, 12), Vec3::zeros()));
+        assert!(outward(&tablet(1.0, 2.0, 1.5, 12).0, Vec3::zeros()));
     }
 
     #[test]
@@ -486,6 +536,35 @@ mod tests {
         // The middle of a face bulges out by `bulge`.
         let top = m.positions().iter().map(|p| p.z).fold(f64::MIN, f64::max);
         assert!((top - 1.2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn tablet_rims_are_its_vertices_on_both_surfaces() {
+        let (r, len, cap) = (1.0, 2.0, 1.5);
+        let (m, lines) = tablet(r, len, cap, 24);
+        assert!(m.info().closed);
+        assert_eq!(lines.lines.len(), 2);
+        let sink = cap - (cap * cap - r * r).sqrt();
+        for (line, z) in lines.lines.iter().zip([-1.0, 1.0]) {
+            assert!(line.closed);
+            assert_eq!(line.points.len(), 24);
+            for (p, loc) in line.points.iter().zip(&line.locations) {
+                let SurfacePoint::Vertex(v) = *loc else {
+                    panic!("{loc:?}")
+                };
+                assert_eq!(m.position(v), *p);
+                assert!((p.x.hypot(p.y) - r).abs() < 1e-12 && (p.z - z).abs() < 1e-12);
+            }
+        }
+        // Every vertex lies on the cylinder or on one of the two cap spheres.
+        let centre = len / 2.0 - (cap - sink);
+        for p in m.positions() {
+            let on_side = (p.x.hypot(p.y) - r).abs() < 1e-12 && p.z.abs() <= len / 2.0 + 1e-12;
+            let on_cap = |c: f64| ((p - Vec3::new(0.0, 0.0, c)).norm() - cap).abs() < 1e-12;
+            assert!(on_side || on_cap(centre) || on_cap(-centre), "{p:?}");
+        }
+        let top = m.positions().iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        assert!((top - (len / 2.0 + sink)).abs() < 1e-12);
     }
 
     #[test]

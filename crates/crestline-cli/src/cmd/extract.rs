@@ -63,7 +63,8 @@ pub struct Args {
     /// The method.
     #[arg(long, value_enum, default_value = "hpw")]
     pub method: MethodArg,
-    /// Extremality smoothing steps (HPW; default 2, 0 turns it off).
+    /// Extremality smoothing steps (default 2 for HPW and YBS; 0 turns it off, which for
+    /// YBS is the method as published).
     #[arg(long)]
     pub smooth_steps: Option<usize>,
     /// Extremality smoothing step size, relative to the squared mean edge length (default 1).
@@ -127,9 +128,9 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    let start = Instant::now();
+    let clock = Instant::now();
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.input_format)?;
-    let load_time = start.elapsed();
+    let load = clock.elapsed();
     let options = options_from_args(&args, &mesh)?;
     let extraction = run_with_progress(&mesh, &options, args.quiet)?;
 
@@ -145,16 +146,16 @@ pub fn run(args: Args) -> Result<()> {
     let format = format
         .or_else(|| LinesFormat::from_path(&output))
         .unwrap_or(LinesFormat::Obj);
-    let start = Instant::now();
+    let clock = Instant::now();
     write_lines(
         &output,
         &extraction.lines,
         Some(format),
         PlyEncoding::BinaryLittleEndian,
     )?;
-    let io = FileTimes {
-        load: load_time,
-        write: start.elapsed(),
+    let io = IoTimes {
+        load,
+        write: clock.elapsed(),
     };
 
     let picture_options = crestline::render::RenderOptions::default();
@@ -387,13 +388,13 @@ pub fn run_with_progress(
     Ok(extract_with_progress(mesh, options, &mut progress)?)
 }
 
-/// Time spent reading the mesh and writing the lines, outside the library's stages.
-struct FileTimes {
+/// Wall times of reading the mesh and writing the lines (pictures excluded).
+struct IoTimes {
     load: Duration,
     write: Duration,
 }
 
-fn stats_text(x: &Extraction, mesh: &TriMesh, io: &FileTimes) -> String {
+fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
     let s = &x.stats;
     let pct = |n: usize| 100.0 * n as f64 / s.triangles.max(1) as f64;
     let mut out = String::new();
@@ -423,16 +424,24 @@ fn stats_text(x: &Extraction, mesh: &TriMesh, io: &FileTimes) -> String {
     if s.gaps_jumped > 0 {
         out += &format!("gaps jumped            {}\n", s.gaps_jumped);
     }
-    out += &format!("time {:<22} {:.3} s\n", "load", io.load.as_secs_f64());
-    for (stage, t) in &s.stage_times {
-        out += &format!("time {:<22} {:.3} s\n", stage.name(), t.as_secs_f64());
+    let times = std::iter::once(("load", io.load))
+        .chain(s.stage_times.iter().map(|(stage, t)| (stage.name(), *t)))
+        .chain(std::iter::once(("write", io.write)));
+    for (name, t) in times {
+        out += &format!("time {:<22} {:.3} s\n", name, t.as_secs_f64());
     }
-    out += &format!("time {:<22} {:.3} s\n", "write", io.write.as_secs_f64());
     out
 }
 
-fn stats_json(x: &Extraction, mesh: &TriMesh, io: &FileTimes) -> serde_json::Value {
+fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::Value {
     let s = &x.stats;
+    let mut seconds: serde_json::Map<String, serde_json::Value> = s
+        .stage_times
+        .iter()
+        .map(|(st, t)| (st.name().to_string(), serde_json::json!(t.as_secs_f64())))
+        .collect();
+    seconds.insert("load".into(), serde_json::json!(io.load.as_secs_f64()));
+    seconds.insert("write".into(), serde_json::json!(io.write.as_secs_f64()));
     serde_json::json!({
         "triangles": s.triangles,
         "singular_max": s.trace.singular_max,
@@ -449,6 +458,6 @@ fn stats_json(x: &Extraction, mesh: &TriMesh, io: &FileTimes) -> serde_json::Val
         "fallback_vertices": s.fallback_vertices,
         "load_seconds": io.load.as_secs_f64(),
         "write_seconds": io.write.as_secs_f64(),
-        "stage_seconds": s.stage_times.iter().map(|(st, t)| (st.name().to_string(), serde_json::json!(t.as_secs_f64()))).collect::<serde_json::Map<_, _>>(),
+        "stage_seconds": seconds,
     })
 }

@@ -8,9 +8,16 @@
 //! - `γ ≤ π/2`: the angle between the first end segment and the reversed second end segment
 //!   (the two lines head towards each other).
 //!
-//! Candidate pairs are joined greedily, shortest gap first, each end at most once; a line is
-//! never joined to itself. A point on an edge belongs to the stars of the vertices of the
-//! faces around that edge.
+//! Candidate pairs are joined greedily, shortest gap first, each end at most once. A point on
+//! an edge belongs to the stars of the vertices of the faces around that edge.
+//!
+//! Two cases the paper's figure does not show, decided here:
+//! - **The two ends of one line** (of a chain of lines already joined) are a candidate pair like
+//!   any other: joining them closes the line. A closed crest line broken once (the equator of
+//!   an ellipsoid, the rim of a cap) would otherwise stay open.
+//! - **Coincident ends** (a zero gap, e.g. two pieces ending at the same point of a
+//!   triangle) have no connecting segment, so α and β are undefined; they are joined when
+//!   `γ ≤ π/2` alone holds.
 
 use std::collections::HashMap;
 
@@ -91,7 +98,9 @@ pub fn jump_gaps(
         }
     }
 
-    let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
+    // (gap, γ, end, end): shortest gap first, the straighter continuation on ties (several
+    // lines ending at one junction point).
+    let mut candidates: Vec<(f64, f64, usize, usize)> = Vec::new();
     let mut star_keys: Vec<&u32> = stars.keys().collect();
     star_keys.sort_unstable();
     for v in star_keys {
@@ -99,22 +108,12 @@ pub fn jump_gaps(
         for (x, &i) in members.iter().enumerate() {
             for &j in &members[x + 1..] {
                 let (a, b) = (ends[i], ends[j]);
-                if a.line == b.line {
+                if a.line == b.line && lines[a.line].points.len() < 3 {
+                    // Closing a single segment would give a degenerate loop.
                     continue;
                 }
-                let gap = b.point - a.point;
-                let Some(c) = gap.try_normalize(0.0) else {
-                    continue;
-                };
-                let angle = |u: Vec3, w: Vec3| u.dot(&w).clamp(-1.0, 1.0).acos();
-                let alpha = angle(a.outward, c);
-                let beta = angle(b.outward, -c);
-                let gamma = angle(a.outward, -b.outward);
-                if alpha <= options.max_end_angle
-                    && beta <= options.max_end_angle
-                    && gamma <= options.max_turn_angle
-                {
-                    candidates.push((gap.norm(), i.min(j), i.max(j)));
+                if let Some(gamma) = join_angle(&a, &b, options) {
+                    candidates.push(((b.point - a.point).norm(), gamma, i.min(j), i.max(j)));
                 }
             }
         }
@@ -128,13 +127,26 @@ pub fn jump_gaps(
     let mut owner: Vec<usize> = (0..lines.len()).collect();
     let mut alive = vec![true; lines.len()];
     let mut joins = 0;
-    for (_, i, j) in candidates {
+    for (_, _, i, j) in candidates {
         if used_end[i] || used_end[j] {
             continue;
         }
         let (a, b) = (ends[i], ends[j]);
         let (la, lb) = (find(&mut owner, a.line), find(&mut owner, b.line));
         if la == lb {
+            // Both ends are unused, so they are the two ends of this chain: close it.
+            let line = &mut lines[la];
+            if line.points.len() >= 3 {
+                if line.points.first() == line.points.last() {
+                    line.points.pop();
+                    line.locations.pop();
+                }
+                line.closed = true;
+                measure_line(mesh, family, line);
+                used_end[i] = true;
+                used_end[j] = true;
+                joins += 1;
+            }
             continue;
         }
         // Orient: la must end at point a, lb must start at point b.
@@ -149,8 +161,12 @@ pub fn jump_gaps(
             second.points.reverse();
             second.locations.reverse();
         }
-        first.points.extend(second.points);
-        first.locations.extend(second.locations);
+        // Coincident ends: keep one copy of the shared point.
+        let skip = usize::from(first.points.last() == second.points.first());
+        first.points.extend(second.points.into_iter().skip(skip));
+        first
+            .locations
+            .extend(second.locations.into_iter().skip(skip));
         measure_line(mesh, family, &mut first);
         lines[la] = first;
         alive[lb] = false;
@@ -165,6 +181,21 @@ pub fn jump_gaps(
         alive[k - 1]
     });
     joins
+}
+
+/// YBS's angle test (Fig. 4) for joining end `a` to end `b`: `Some(γ)` when it passes.
+/// Coincident ends only need the two lines to head towards each other (γ).
+fn join_angle(a: &End, b: &End, options: &GapJumping) -> Option<f64> {
+    let angle = |u: Vec3, w: Vec3| u.dot(&w).clamp(-1.0, 1.0).acos();
+    let gamma = angle(a.outward, -b.outward);
+    let ends_ok = match (b.point - a.point).try_normalize(0.0) {
+        Some(c) => {
+            angle(a.outward, c) <= options.max_end_angle
+                && angle(b.outward, -c) <= options.max_end_angle
+        }
+        None => true,
+    };
+    (ends_ok && gamma <= options.max_turn_angle).then_some(gamma)
 }
 
 fn find(owner: &mut [usize], mut x: usize) -> usize {
@@ -193,53 +224,76 @@ mod tests {
     use crate::lines::LineKind;
     use crate::shapes;
 
-    /// The face of a flat grid mesh containing (x, y).
-    fn locate(mesh: &TriMesh, x: f64, y: f64) -> SurfacePoint {
-        let inside = |f: usize| {
-            let [a, b, c] = mesh.triangle(f);
-            let side = |p: Vec3, q: Vec3| (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x);
-            let s = [side(a, b), side(b, c), side(c, a)];
-            s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
-        };
-        let face = (0..mesh.num_faces()).find(|&f| inside(f)).unwrap() as u32;
-        SurfacePoint::Face { face }
+    /// A flat 6 × 3 grid of unit cells with zero fields: only the line geometry matters.
+    struct Grid {
+        mesh: TriMesh,
+        zero: Vec<f64>,
+        dirs: Vec<Vec3>,
     }
 
-    fn line(mesh: &TriMesh, pts: &[(f64, f64)]) -> FeatureLine {
-        FeatureLine {
-            kind: LineKind::Ridge,
-            points: pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
-            locations: pts.iter().map(|&(x, y)| locate(mesh, x, y)).collect(),
-            closed: false,
-            length: 0.0,
-            curvature_integral: 0.0,
-            strength: 0.0,
+    impl Grid {
+        fn new() -> Self {
+            let mesh = shapes::height_field(|_, _| 0.0, [0.0, 6.0], [0.0, 3.0], 6, 3);
+            let n = mesh.num_vertices();
+            Grid {
+                mesh,
+                zero: vec![0.0; n],
+                dirs: vec![Vec3::x(); n],
+            }
+        }
+
+        /// The face containing (x, y).
+        fn locate(&self, x: f64, y: f64) -> SurfacePoint {
+            let inside = |f: usize| {
+                let [a, b, c] = self.mesh.triangle(f);
+                let side = |p: Vec3, q: Vec3| (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x);
+                let s = [side(a, b), side(b, c), side(c, a)];
+                s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
+            };
+            let face = (0..self.mesh.num_faces()).find(|&f| inside(f)).unwrap() as u32;
+            SurfacePoint::Face { face }
+        }
+
+        fn line(&self, pts: &[(f64, f64)]) -> FeatureLine {
+            FeatureLine {
+                kind: LineKind::Ridge,
+                points: pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
+                locations: pts.iter().map(|&(x, y)| self.locate(x, y)).collect(),
+                closed: false,
+                length: 0.0,
+                curvature_integral: 0.0,
+                strength: 0.0,
+            }
+        }
+
+        fn jump(&self, lines: &mut Vec<FeatureLine>, options: &GapJumping) -> usize {
+            let family = Family {
+                kind: LineKind::Ridge,
+                k: &self.zero,
+                k_other: &self.zero,
+                e: &self.zero,
+                e_other: &self.zero,
+                dirs: &self.dirs,
+            };
+            jump_gaps(&self.mesh, &family, lines, options)
         }
     }
 
+    const ANY_ANGLE: GapJumping = GapJumping {
+        max_end_angle: std::f64::consts::PI,
+        max_turn_angle: std::f64::consts::PI,
+    };
+
     #[test]
     fn joins_broken_pieces_but_not_sharp_corners() {
-        let mesh = shapes::height_field(|_, _| 0.0, [0.0, 6.0], [0.0, 3.0], 6, 3);
-        let n = mesh.num_vertices();
-        let zero = vec![0.0; n];
-        let dirs = vec![Vec3::x(); n];
-        let fam = Family {
-            kind: LineKind::Ridge,
-            k: &zero,
-            k_other: &zero,
-            e: &zero,
-            e_other: &zero,
-            dirs: &dirs,
-        };
+        let g = Grid::new();
+        let ybs = GapJumping::default();
         // Two collinear pieces with a gap inside one cell: joined into one line.
         let mut lines = vec![
-            line(&mesh, &[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
-            line(&mesh, &[(4.8, 1.5), (3.8, 1.5), (2.8, 1.5)]),
+            g.line(&[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
+            g.line(&[(4.8, 1.5), (3.8, 1.5), (2.8, 1.5)]),
         ];
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            1
-        );
+        assert_eq!(g.jump(&mut lines, &ybs), 1);
         assert_eq!(lines.len(), 1);
         assert_eq!(lines[0].points.len(), 6);
         assert!((lines[0].length - 4.5).abs() < 1e-12);
@@ -248,23 +302,81 @@ mod tests {
 
         // A piece meeting the first at a right angle: not joined.
         let mut lines = vec![
-            line(&mesh, &[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
-            line(&mesh, &[(2.8, 2.8), (2.8, 2.2), (2.8, 1.6)]),
+            g.line(&[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
+            g.line(&[(2.8, 2.8), (2.8, 2.2), (2.8, 1.6)]),
         ];
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            0
-        );
+        assert_eq!(g.jump(&mut lines, &ybs), 0);
         assert_eq!(lines.len(), 2);
+
+        // A piece coming back at a sharp angle (the lines turn by ~150°): not joined, although
+        // the ends are close enough (any angle joins them; the far ends share a star too, so
+        // the V is then also closed into a loop).
+        let v_shape = || {
+            vec![
+                g.line(&[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
+                g.line(&[(0.5, 2.8), (1.6, 2.2), (2.7, 1.6)]),
+            ]
+        };
+        let mut lines = v_shape();
+        assert_eq!(g.jump(&mut lines, &ybs), 0);
+        let mut lines = v_shape();
+        assert!(g.jump(&mut lines, &ANY_ANGLE) >= 1);
+        assert_eq!(lines.len(), 1);
+
+        // A gentle bend (~30°) is one line continuing: joined.
+        let mut lines = vec![
+            g.line(&[(0.3, 1.5), (1.3, 1.5), (2.2, 1.5)]),
+            g.line(&[(4.6, 2.5), (3.7, 2.0), (2.8, 1.5)]),
+        ];
+        assert_eq!(g.jump(&mut lines, &ybs), 1);
 
         // Collinear but too far apart (no common vertex star): not joined.
         let mut lines = vec![
-            line(&mesh, &[(0.3, 1.5), (1.3, 1.5)]),
-            line(&mesh, &[(3.5, 1.5), (4.5, 1.5)]),
+            g.line(&[(0.3, 1.5), (1.3, 1.5)]),
+            g.line(&[(3.5, 1.5), (4.5, 1.5)]),
         ];
-        assert_eq!(
-            jump_gaps(&mesh, &fam, &mut lines, &GapJumping::default()),
-            0
+        assert_eq!(g.jump(&mut lines, &ANY_ANGLE), 0);
+    }
+
+    #[test]
+    fn closes_a_loop_broken_once() {
+        let g = Grid::new();
+        let pts = [
+            (2.0, 0.5),
+            (5.5, 0.5),
+            (5.5, 2.5),
+            (0.5, 2.5),
+            (0.5, 0.5),
+            (1.4, 0.5),
+        ];
+        let mut lines = vec![g.line(&pts)];
+        assert_eq!(g.jump(&mut lines, &GapJumping::default()), 1);
+        assert_eq!(lines.len(), 1);
+        assert!(lines[0].closed);
+        assert_eq!(lines[0].points.len(), pts.len());
+        assert!(
+            (lines[0].length - 14.0).abs() < 1e-12,
+            "{}",
+            lines[0].length
         );
+        // A closed line has no ends left to join.
+        assert_eq!(g.jump(&mut lines, &GapJumping::default()), 0);
+    }
+
+    #[test]
+    fn at_a_junction_joins_the_straight_continuation() {
+        let g = Grid::new();
+        // Three lines ending at one point (a three-crest triangle's junction): the branch from
+        // above turns by 90° against either of the other two, which continue each other.
+        let mut lines = vec![
+            g.line(&[(3.0, 2.8), (3.0, 1.5)]),
+            g.line(&[(0.3, 1.5), (1.4, 1.5), (3.0, 1.5)]),
+            g.line(&[(5.6, 1.5), (4.1, 1.5), (3.0, 1.5)]),
+        ];
+        assert_eq!(g.jump(&mut lines, &GapJumping::default()), 1);
+        assert_eq!(lines.len(), 2);
+        let straight = lines.iter().find(|l| l.points.len() == 5).unwrap();
+        assert!(straight.points.iter().all(|p| p.y == 1.5));
+        assert!((straight.length - 5.3).abs() < 1e-12, "{}", straight.length);
     }
 }

@@ -124,23 +124,51 @@ pub fn trace_lines(mesh: &TriMesh, curvature: &Curvature) -> (FeatureLines, Trac
     (FeatureLines { lines }, report)
 }
 
-/// YBS tracing for both families: crest points edge by edge, joined inside triangles, then
-/// gap jumping. Returns the lines and the number of gaps jumped.
+/// YBS tracing for both families: crest points edge by edge, joined inside triangles (three
+/// at the centroid of the three points), then gap jumping ([`jump_crest_gaps`]) unless `gaps`
+/// is `None`. Returns the lines and the number of gaps jumped (joins of two lines and
+/// closings of one).
 pub fn trace_crest_lines(
     mesh: &TriMesh,
     curvature: &Curvature,
     gaps: Option<&gap::GapJumping>,
 ) -> (FeatureLines, usize) {
     let mut lines = Vec::new();
-    let mut joins = 0;
     for kind in [LineKind::Ridge, LineKind::Valley] {
         let family = trace::Family::of(curvature, kind);
         let segments = trace_edges::trace_crest_edges(mesh, &family);
         let mut family_lines = assemble::assemble_lines(mesh, &family, &segments);
-        if let Some(options) = gaps {
-            joins += gap::jump_gaps(mesh, &family, &mut family_lines, options);
-        }
+        trace_edges::place_junctions(mesh, &family, &mut family_lines);
         lines.extend(family_lines);
     }
-    (FeatureLines { lines }, joins)
+    let mut lines = FeatureLines { lines };
+    let joins = gaps.map_or(0, |options| {
+        jump_crest_gaps(mesh, curvature, &mut lines, options)
+    });
+    (lines, joins)
+}
+
+/// YBS's gap jumping ([`gap::jump_gaps`]) on ridges and valleys separately; lines keep their
+/// order by kind (ridges first). Returns the number of gaps jumped.
+pub fn jump_crest_gaps(
+    mesh: &TriMesh,
+    curvature: &Curvature,
+    lines: &mut FeatureLines,
+    options: &gap::GapJumping,
+) -> usize {
+    let mut joins = 0;
+    let mut out = Vec::with_capacity(lines.lines.len());
+    for kind in [LineKind::Ridge, LineKind::Valley] {
+        let family = trace::Family::of(curvature, kind);
+        let mut family_lines: Vec<FeatureLine> = lines
+            .lines
+            .iter()
+            .filter(|l| l.kind == kind)
+            .cloned()
+            .collect();
+        joins += gap::jump_gaps(mesh, &family, &mut family_lines, options);
+        out.extend(family_lines);
+    }
+    lines.lines = out;
+    joins
 }

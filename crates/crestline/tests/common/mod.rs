@@ -1,10 +1,14 @@
-//! Helpers shared by the integration tests: sampling a surface and measuring how far
-//! the samples are from another surface; loading the shared meshes; small geometric checks.
-//! Each test binary uses only some of them.
-#![allow(dead_code)]
+//! Helpers shared by the integration tests: sampling a surface and measuring how far the
+//! samples are from another surface (simplification); loading the shared meshes; distances
+//! between points and polylines with the ellipsoid and torus checks of the extraction tests.
 
+// Each test crate uses a subset of these helpers.
+#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use crestline::extract::{ExtractOptions, extract};
+use crestline::lines::{FeatureLines, LineKind};
 use crestline::spatial::FaceGrid;
-use crestline::{TriMesh, Vec3};
+use crestline::{TriMesh, Vec3, shapes};
 
 /// Points spread over each triangle of `mesh` accepted by `keep` (6 per triangle: the
 /// centroid, three points towards the corners and three towards the edge midpoints).
@@ -52,7 +56,6 @@ pub fn shared_meshes_dir() -> std::path::PathBuf {
 }
 
 /// Loads one of the shared meshes by file name (panics with the reason when it cannot).
-#[allow(clippy::panic)]
 pub fn load_shared(name: &str) -> TriMesh {
     let path = shared_meshes_dir().join(name);
     crestline::io::read_mesh(&path, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
@@ -79,4 +82,123 @@ pub fn polyline_segments(points: &[Vec3], closed: bool) -> Vec<(Vec3, Vec3)> {
         n.saturating_sub(1)
     };
     (0..m).map(|i| (points[i], points[(i + 1) % n])).collect()
+/// Distance from `p` to the nearest of `lines` (closed lines include their closing segment).
+pub fn distance_to_lines(p: Vec3, lines: &FeatureLines) -> f64 {
+    let mut best = f64::INFINITY;
+    for l in &lines.lines {
+        let n = l.points.len();
+        let segs = if l.closed { n } else { n.saturating_sub(1) };
+        for i in 0..segs {
+            best = best.min(point_segment_distance(
+                p,
+                l.points[i],
+                l.points[(i + 1) % n],
+            ));
+        }
+        if n == 1 {
+            best = best.min((l.points[0] - p).norm());
+        }
+    }
+    best
+}
+
+/// Fraction of `samples` within `tol` of `lines`.
+pub fn coverage(samples: &[Vec3], lines: &FeatureLines, tol: f64) -> f64 {
+    let covered = samples
+        .iter()
+        .filter(|q| distance_to_lines(**q, lines) <= tol)
+        .count();
+    covered as f64 / samples.len() as f64
+}
+
+/// Semi-axes of the test ellipsoid x²/a² + y²/b² + z²/c² = 1 of the extraction tests.
+///
+/// Exact crest lines of a triaxial ellipsoid with a > b > c: ridges of an ellipsoid lie on its
+/// three principal ellipses. On the equator z = 0 the principal direction of k_max is the z
+/// direction (crossing the plane): at (a, 0, 0) k = a/c² across versus a/b² along, at
+/// (0, b, 0) b/c² versus b/a². By the symmetry z → −z, e_max = 0 there, and k_max falls
+/// towards the poles (to c/b² at (0, 0, c)): a maximum, so the whole equator is a ridge. On
+/// the ellipses x = 0 and y = 0 the direction crossing the plane is the k_min direction near
+/// their ends (e_min = 0, not a crest since k_min > 0), or a k_max *minimum* (at the poles).
+/// Valleys need k_min < 0: none on a convex surface. So the only crest line is the equator
+/// ellipse x²/a² + y²/b² = 1, z = 0.
+pub const ELLIPSOID: [f64; 3] = [3.0, 2.0, 1.0];
+
+/// `samples` points evenly spaced in parameter on the equator of [`ELLIPSOID`].
+pub fn equator(samples: usize) -> Vec<Vec3> {
+    let [a, b, _] = ELLIPSOID;
+    (0..samples)
+        .map(|i| {
+            let t = i as f64 * std::f64::consts::TAU / samples as f64;
+            Vec3::new(a * t.cos(), b * t.sin(), 0.0)
+        })
+        .collect()
+}
+
+/// Extracts lines from `mesh` (an [`ELLIPSOID`] mesh) with `options` and checks them against
+/// the exact crest line: no valleys, every point within 1% of the bounding-box diagonal of
+/// the equator, and at least 95% of the equator within that distance of a line. Returns the
+/// lines for further checks.
+pub fn check_ellipsoid(mesh: &TriMesh, options: &ExtractOptions, name: &str) -> FeatureLines {
+    let diagonal = mesh.bounding_box().diagonal();
+    let tol = 0.01 * diagonal;
+    let lines = extract(mesh, options).unwrap().lines;
+    assert!(
+        lines.of_kind(LineKind::Valley).count() == 0,
+        "{name}: valleys on a convex surface"
+    );
+    let exact = equator(20_000);
+    for l in &lines.lines {
+        for p in &l.points {
+            let d = exact
+                .iter()
+                .map(|q| (q - p).norm())
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d <= tol,
+                "{name}: ridge point {p:?} is {d:.4} from the equator (tol {tol:.4})"
+            );
+        }
+    }
+    let fraction = coverage(&equator(2000), &lines, tol);
+    assert!(
+        fraction >= 0.95,
+        "{name}: ridges cover {:.1}% of the equator",
+        100.0 * fraction
+    );
+    lines
+}
+
+/// Checks that `options` leave almost nothing on a torus (a Dupin cyclide: e = 0, no crest
+/// lines): total length below 5% of the bounding-box diagonal.
+pub fn check_torus_is_empty(options: &ExtractOptions, name: &str) {
+    let mesh = shapes::torus(3.0, 1.0, 120, 40);
+    let result = extract(&mesh, options).unwrap();
+    let diagonal = mesh.bounding_box().diagonal();
+    assert!(
+        result.lines.total_length() < 0.05 * diagonal,
+        "{name} torus: {} lines, total length {:.3} (diagonal {diagonal:.3})",
+        result.lines.lines.len(),
+        result.lines.total_length()
+    );
+}
+
+/// Runs `options` twice on `mesh`: the lines must be identical, not empty, and no polyline may
+/// repeat a point.
+pub fn check_deterministic_and_simple(mesh: &TriMesh, options: &ExtractOptions, name: &str) {
+    let a = extract(mesh, options).unwrap();
+    let b = extract(mesh, options).unwrap();
+    assert_eq!(a.lines, b.lines, "{name}: not deterministic");
+    assert!(!a.lines.lines.is_empty(), "{name}: no lines");
+    for l in &a.lines.lines {
+        let mut pts: Vec<[u64; 3]> = l
+            .points
+            .iter()
+            .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+            .collect();
+        pts.sort_unstable();
+        let before = pts.len();
+        pts.dedup();
+        assert_eq!(before, pts.len(), "{name}: a polyline repeats a point");
+    }
 }
