@@ -212,7 +212,9 @@ impl Topology {
             [self.vertex_face_offsets[v] as usize..self.vertex_face_offsets[v + 1] as usize]
     }
 
-    /// Edges incident to vertex `v`, unordered.
+    /// Edges incident to vertex `v`, in increasing id order. Ids follow the pair (smaller
+    /// endpoint, larger endpoint), so the edges to neighbours below `v` come first, then
+    /// those to neighbours above it, each group by increasing neighbour.
     #[inline]
     pub fn vertex_edges(&self, v: u32) -> &[u32] {
         let v = v as usize;
@@ -220,7 +222,7 @@ impl Topology {
             [self.vertex_edge_offsets[v] as usize..self.vertex_edge_offsets[v + 1] as usize]
     }
 
-    /// Neighbours of `v` (each once), unordered.
+    /// Neighbours of `v` (each once), in increasing order.
     pub fn neighbors(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
         self.vertex_edges(v).iter().map(move |&e| {
             let [a, b] = self.edges[e as usize];
@@ -649,6 +651,17 @@ mod tests {
         assert_eq!(t.edge_kind(e), EdgeKind::NonManifold);
         assert_eq!(t.vertex_kind(0), VertexKind::NonManifold);
         assert_eq!(t.vertex_kind(2), VertexKind::Boundary);
+    }
+
+    #[test]
+    fn vertex_edges_are_ordered_by_neighbour() {
+        let faces = octahedron();
+        let t = Topology::build(6, &faces);
+        for v in 0..6 {
+            let neighbours: Vec<u32> = t.neighbors(v).collect();
+            assert!(neighbours.windows(2).all(|w| w[0] < w[1]), "{v}: {neighbours:?}");
+            assert!(t.vertex_edges(v).windows(2).all(|w| w[0] < w[1]));
+        }
     }
 
     #[test]
