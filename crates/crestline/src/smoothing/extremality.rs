@@ -39,7 +39,8 @@ pub struct ExtremalitySmoothing {
     /// homogeneous smoothing. Default: `None`.
     pub diffusion: Option<Vec<f64>>,
     /// The linear solver of the implicit steps.
-    /// Default: [`LinearSolver::DEFAULT`] (conjugate gradients, relative tolerance 1e-8).
+    /// Default: [`LinearSolver::DEFAULT`] (Jacobi-preconditioned conjugate gradients,
+    /// relative tolerance 1e-5).
     pub solver: LinearSolver,
 }
 
