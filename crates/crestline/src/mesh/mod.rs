@@ -21,6 +21,7 @@ pub use geometry::{
 };
 pub use info::MeshInfo;
 pub use topology::{EdgeKind, Topology, VertexKind};
+pub(crate) use topology::{ROW_BLOCK, split_rows};
 
 use crate::error::{Error, Result};
 

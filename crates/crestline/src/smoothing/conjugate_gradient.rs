@@ -50,7 +50,7 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::mesh::Topology;
+use crate::mesh::{ROW_BLOCK, Topology, split_rows};
 
 /// Rows per parallel work item (fixed so that sums do not depend on the thread count).
 const CHUNK: usize = 2048;
@@ -365,11 +365,16 @@ impl<'m> ConnectionSystem<'m> {
         v: usize,
         value: impl Fn(usize) -> [f64; K],
     ) -> [f64; K] {
+        let range = self.row_start[v] as usize..self.row_start[v + 1] as usize;
+        let columns = &self.columns[range.clone()];
+        // Same lengths as `columns`, which lets the compiler drop the bounds checks below.
+        let coefficients = &self.coefficients[range.clone()][..columns.len()];
+        let flips = &self.flips[range][..columns.len()];
         let mut sum = [0.0; K];
-        for (q, w, flips) in self.row(v) {
-            let u = value(q);
+        for k in 0..columns.len() {
+            let u = value(columns[k] as usize);
             for f in 0..K {
-                sum[f] += signed(w, flips, f) * u[f];
+                sum[f] += signed(coefficients[k], flips[k], f) * u[f];
             }
         }
         sum
@@ -571,12 +576,12 @@ impl<'m> ConnectionSystem<'m> {
                 .enumerate()
                 .map(|(c, qs)| {
                     let mut pq = [0.0; K];
-                    for (i, q) in qs.iter_mut().enumerate() {
-                        let v = c * CHUNK + i;
-                        let near = self.neighbour_sum::<K>(v, |j| p[j]);
+                    let ps = &p[c * CHUNK..c * CHUNK + qs.len()];
+                    for (i, (q, pv)) in qs.iter_mut().zip(ps).enumerate() {
+                        let near = self.neighbour_sum::<K>(c * CHUNK + i, |j| p[j]);
                         for f in 0..K {
-                            q[f] = p[v][f] - near[f];
-                            pq[f] += p[v][f] * q[f];
+                            q[f] = pv[f] - near[f];
+                            pq[f] += pv[f] * q[f];
                         }
                     }
                     [pq]
@@ -596,12 +601,17 @@ impl<'m> ConnectionSystem<'m> {
                 .zip(r.par_chunks_mut(CHUNK))
                 .enumerate()
                 .map(|(c, (mut xs, rs))| {
+                    let rows = c * CHUNK..c * CHUNK + rs.len();
+                    let (ps, qs) = (&p[rows.clone()], &q[rows]);
+                    for (f, xs) in xs.iter_mut().enumerate() {
+                        for (x, p) in xs.iter_mut().zip(ps) {
+                            *x += alpha[f] * p[f];
+                        }
+                    }
                     let mut rr = [0.0; K];
-                    for (i, r) in rs.iter_mut().enumerate() {
-                        let v = c * CHUNK + i;
+                    for (r, q) in rs.iter_mut().zip(qs) {
                         for f in 0..K {
-                            xs[f][i] += alpha[f] * p[v][f];
-                            r[f] -= alpha[f] * q[v][f];
+                            r[f] -= alpha[f] * q[f];
                             rr[f] += r[f] * r[f];
                         }
                     }
@@ -621,15 +631,13 @@ impl<'m> ConnectionSystem<'m> {
                 break;
             }
 
-            // p = r + β p.
+            // p = r + β p (fields already done keep α = 0, so their p no longer matters).
             p.par_chunks_mut(CHUNK)
                 .zip(r.par_chunks(CHUNK))
                 .for_each(|(ps, rs)| {
                     for (p, r) in ps.iter_mut().zip(rs) {
                         for f in 0..K {
-                            if !done[f] {
-                                p[f] = r[f] + beta[f] * p[f];
-                            }
+                            p[f] = r[f] + beta[f] * p[f];
                         }
                     }
                 });
@@ -656,24 +664,21 @@ fn per_entry<T: Send + Default + Clone>(
     row_start: &[u32],
     value: impl Fn(u32, usize) -> T + Sync,
 ) -> Vec<T> {
-    let n = topology.num_vertices();
-    let mut out = vec![T::default(); row_start[n] as usize];
-    // Blocks of CHUNK rows own contiguous runs of entries.
-    let mut pieces = Vec::with_capacity(n.div_ceil(CHUNK));
-    let mut rest = out.as_mut_slice();
-    for first in (0..n).step_by(CHUNK) {
-        let last = (first + CHUNK).min(n);
-        let (piece, tail) = rest.split_at_mut((row_start[last] - row_start[first]) as usize);
-        pieces.push((first, last, piece));
-        rest = tail;
-    }
-    pieces.into_par_iter().for_each(|(first, last, piece)| {
-        let entries = (first as u32..last as u32)
-            .flat_map(|v| topology.vertex_edges(v).iter().map(move |&e| (v, e as usize)));
-        for (slot, (v, e)) in piece.iter_mut().zip(entries) {
-            *slot = value(v, e);
-        }
-    });
+    let mut out = vec![T::default(); row_start[topology.num_vertices()] as usize];
+    split_rows(&mut out, row_start, ROW_BLOCK)
+        .into_par_iter()
+        .for_each(|(rows, piece)| {
+            let entries = rows.flat_map(|v| {
+                let v = v as u32;
+                topology
+                    .vertex_edges(v)
+                    .iter()
+                    .map(move |&e| (v, e as usize))
+            });
+            for (slot, (v, e)) in piece.iter_mut().zip(entries) {
+                *slot = value(v, e);
+            }
+        });
     out
 }
 
