@@ -808,7 +808,10 @@ mod tests {
         let t = Topology::build(6, &faces);
         for v in 0..6 {
             let neighbours: Vec<u32> = t.neighbors(v).collect();
-            assert!(neighbours.windows(2).all(|w| w[0] < w[1]), "{v}: {neighbours:?}");
+            assert!(
+                neighbours.windows(2).all(|w| w[0] < w[1]),
+                "{v}: {neighbours:?}"
+            );
             assert!(t.vertex_edges(v).windows(2).all(|w| w[0] < w[1]));
         }
     }

@@ -432,7 +432,9 @@ impl<'m> ConnectionSystem<'m> {
                 let later: f64 = self
                     .row(v)
                     .rev()
-                    .map_while(|(q, w, flips)| (q > v).then(|| signed(w, flips, f) * sqrt_d[q] * x[q]))
+                    .map_while(|(q, w, flips)| {
+                        (q > v).then(|| signed(w, flips, f) * sqrt_d[q] * x[q])
+                    })
                     .sum();
                 x[v] = sqrt_d[v] * x[v] - later;
             } else {
@@ -721,10 +723,8 @@ mod tests {
     use crate::shapes;
     use crate::smoothing::{cotan_weights, lumped_mass};
 
-    const BOTH: [Preconditioner; 2] = [
-        Preconditioner::Jacobi,
-        Preconditioner::SymmetricGaussSeidel,
-    ];
+    const BOTH: [Preconditioner; 2] =
+        [Preconditioner::Jacobi, Preconditioner::SymmetricGaussSeidel];
 
     fn system<'m>(
         mesh: &'m TriMesh,
@@ -748,7 +748,11 @@ mod tests {
                 for &e in topo.vertex_edges(v as u32) {
                     let [a, b] = topo.edge(e);
                     let q = if a as usize == v { b } else { a } as usize;
-                    let sigma = if flips.is_some_and(|f| f[e as usize]) { -1.0 } else { 1.0 };
+                    let sigma = if flips.is_some_and(|f| f[e as usize]) {
+                        -1.0
+                    } else {
+                        1.0
+                    };
                     out += time * w[e as usize] * (u[v] - sigma * u[q]);
                 }
                 out
@@ -759,7 +763,9 @@ mod tests {
     #[test]
     fn solution_satisfies_the_system() {
         let mesh = shapes::torus(3.0, 1.0, 30, 12);
-        let flips: Vec<bool> = (0..mesh.topology().num_edges()).map(|e| e % 3 == 0).collect();
+        let flips: Vec<bool> = (0..mesh.topology().num_edges())
+            .map(|e| e % 3 == 0)
+            .collect();
         let mass = lumped_mass(&mesh, mesh.positions());
         let u0: Vec<f64> = mesh.positions().iter().map(|p| p.x.sin() + p.z).collect();
         let rhs: Vec<f64> = u0.iter().zip(&mass).map(|(u, m)| u * m).collect();
@@ -798,16 +804,13 @@ mod tests {
             .enumerate()
             .map(|(i, p)| p.x * p.y + if i % 2 == 0 { 0.1 } else { -0.1 })
             .collect();
-        let iterations = [
-            Preconditioner::SymmetricGaussSeidel,
-            Preconditioner::Jacobi,
-        ]
-        .map(|preconditioner| {
-            let options = ConjugateGradientOptions::DEFAULT.with_preconditioner(preconditioner);
-            let sys = system(&mesh, h * h, &[None], options);
-            let mut u = u0.clone();
-            sys.step(&mut [&mut u]).unwrap()
-        });
+        let iterations =
+            [Preconditioner::SymmetricGaussSeidel, Preconditioner::Jacobi].map(|preconditioner| {
+                let options = ConjugateGradientOptions::DEFAULT.with_preconditioner(preconditioner);
+                let sys = system(&mesh, h * h, &[None], options);
+                let mut u = u0.clone();
+                sys.step(&mut [&mut u]).unwrap()
+            });
         assert!(
             2 * iterations[0] < 3 * iterations[1],
             "Gauss–Seidel {} vs Jacobi {}",
@@ -819,8 +822,14 @@ mod tests {
     #[test]
     fn results_do_not_depend_on_the_thread_count() {
         let mesh = shapes::torus(3.0, 1.0, 60, 24);
-        let flips: Vec<bool> = (0..mesh.topology().num_edges()).map(|e| e % 7 == 0).collect();
-        let u0: Vec<f64> = mesh.positions().iter().map(|p| (3.0 * p.x).sin() * p.z).collect();
+        let flips: Vec<bool> = (0..mesh.topology().num_edges())
+            .map(|e| e % 7 == 0)
+            .collect();
+        let u0: Vec<f64> = mesh
+            .positions()
+            .iter()
+            .map(|p| (3.0 * p.x).sin() * p.z)
+            .collect();
         for preconditioner in BOTH {
             let run = |threads: usize| {
                 let pool = rayon::ThreadPoolBuilder::new()
@@ -896,6 +905,9 @@ mod tests {
         let sys = new(&w, &m, &[None, None], ok).unwrap();
         let mut u = vec![0.0; mesh.num_vertices()];
         assert!(sys.step(&mut [&mut u]).is_err());
-        assert!(sys.step(&mut [&mut u[1..].to_vec(), &mut u.clone()]).is_err());
+        assert!(
+            sys.step(&mut [&mut u[1..].to_vec(), &mut u.clone()])
+                .is_err()
+        );
     }
 }

@@ -302,9 +302,15 @@ mod tests {
         let (cg, exact) = (run(LinearSolver::DEFAULT), run(LinearSolver::Cholesky));
         for (x, y) in [(&cg.e_max, &exact.e_max), (&cg.e_min, &exact.e_min)] {
             let scale = y.iter().fold(0.0f64, |s, v| s.max(v.abs()));
-            let worst = x.iter().zip(y).fold(0.0f64, |s, (a, b)| s.max((a - b).abs()));
+            let worst = x
+                .iter()
+                .zip(y)
+                .fold(0.0f64, |s, (a, b)| s.max((a - b).abs()));
             let tolerance = ConjugateGradientOptions::DEFAULT.tolerance;
-            assert!(worst < 10.0 * tolerance * scale, "{worst:e} vs scale {scale}");
+            assert!(
+                worst < 10.0 * tolerance * scale,
+                "{worst:e} vs scale {scale}"
+            );
         }
     }
 

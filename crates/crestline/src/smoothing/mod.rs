@@ -151,16 +151,9 @@ impl<'m> DiffusionOperator<'m> {
         solver: LinearSolver,
     ) -> Result<Self> {
         let solver = match solver {
-            LinearSolver::ConjugateGradient(options) => {
-                Solver::ConjugateGradient(ConnectionSystem::new(
-                    mesh.topology(),
-                    weights,
-                    mass,
-                    time,
-                    flips,
-                    options,
-                )?)
-            }
+            LinearSolver::ConjugateGradient(options) => Solver::ConjugateGradient(
+                ConnectionSystem::new(mesh.topology(), weights, mass, time, flips, options)?,
+            ),
             LinearSolver::Cholesky => {
                 Solver::Cholesky(CholeskySystem::new(mesh, &weights, mass, time, flips)?)
             }
@@ -275,7 +268,11 @@ mod tests {
         // cotan weights), several steps: warm starts must not drift from the exact solves.
         let m = shapes::ellipsoid(1.0, 0.7, 0.4, 3);
         let topo = m.topology();
-        let flips: Vec<bool> = topo.edges().iter().map(|&[a, b]| (a * 7 + b) % 5 == 0).collect();
+        let flips: Vec<bool> = topo
+            .edges()
+            .iter()
+            .map(|&[a, b]| (a * 7 + b) % 5 == 0)
+            .collect();
         let h = crate::mesh::mean_edge_length(&m);
         let start: Vec<f64> = m
             .positions()
@@ -298,7 +295,10 @@ mod tests {
         let scale = start.iter().fold(0.0f64, |s, x| s.max(x.abs()));
         for cg in [&jacobi, &gauss_seidel] {
             for (x, y) in [(&cg.0, &exact.0), (&cg.1, &exact.1)] {
-                let worst = x.iter().zip(y).fold(0.0f64, |s, (a, b)| s.max((a - b).abs()));
+                let worst = x
+                    .iter()
+                    .zip(y)
+                    .fold(0.0f64, |s, (a, b)| s.max((a - b).abs()));
                 assert!(worst < 1e-10 * scale, "max difference {worst:e}");
             }
             // The signs matter: the two fields differ.
