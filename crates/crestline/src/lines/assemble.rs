@@ -11,6 +11,8 @@
 //! `C = sqrt(e_max² + e_min²)` interpolated at each line point as YBS prescribe (on an edge
 //! that is the linear interpolation at the zero crossing, weights `|e(q)|`, `|e(p)|`).
 
+use rayon::prelude::*;
+
 use crate::mesh::{TriMesh, Vec3};
 
 use super::trace::{Family, FamilySegments, Node, node_position};
@@ -34,7 +36,7 @@ pub fn assemble_lines(
         .collect();
     let paths = chain_links(nodes.len(), &links);
     paths
-        .into_iter()
+        .into_par_iter()
         .map(|(path, closed)| {
             let path: Vec<Node> = path.into_iter().map(|i| nodes[i]).collect();
             build_line(mesh, family, &path, closed)
@@ -177,19 +179,20 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
     line.strength = length * c_integral;
 }
 
-/// Linear interpolation weights of a surface point over mesh vertices.
-pub fn location_weights(mesh: &TriMesh, location: SurfacePoint) -> Vec<(u32, f64)> {
-    match location {
+/// Linear interpolation weights of a surface point over mesh vertices (one to three).
+pub fn location_weights(
+    mesh: &TriMesh,
+    location: SurfacePoint,
+) -> impl Iterator<Item = (u32, f64)> {
+    let (weights, count) = match location {
         SurfacePoint::Edge { edge, t } => {
             let [a, b] = mesh.topology().edge(edge);
-            vec![(a, 1.0 - t), (b, t)]
+            ([(a, 1.0 - t), (b, t), (b, 0.0)], 2)
         }
-        SurfacePoint::Face { face } => mesh.faces()[face as usize]
-            .iter()
-            .map(|&v| (v, 1.0 / 3.0))
-            .collect(),
-        SurfacePoint::Vertex(v) => vec![(v, 1.0)],
-    }
+        SurfacePoint::Face { face } => (mesh.faces()[face as usize].map(|v| (v, 1.0 / 3.0)), 3),
+        SurfacePoint::Vertex(v) => ([(v, 1.0); 3], 1),
+    };
+    weights.into_iter().take(count)
 }
 
 /// Length and trapezoid integrals of two per-point quantities along a polyline.

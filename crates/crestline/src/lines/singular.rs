@@ -10,7 +10,7 @@
 //! Edges with more than two faces (non-manifold) never mark: "the triangle across" is not
 //! defined there.
 
-use std::collections::HashSet;
+use rayon::prelude::*;
 
 use crate::mesh::TriMesh;
 
@@ -28,33 +28,42 @@ pub struct SingularCases {
 }
 
 /// Adds the segments through singular triangles to `segments` and returns the case counts.
+/// The faces are examined in parallel; segments are appended in face order.
 pub fn process_singular_triangles(mesh: &TriMesh, segments: &mut FamilySegments) -> SingularCases {
     let topo = mesh.topology();
     // Edge points that end a segment traced in a regular triangle.
-    let mut marked_by_regular: HashSet<u32> = HashSet::new();
+    let mut marked_by_regular = vec![false; topo.num_edges()];
     for (seg, &f) in segments.segments.iter().zip(&segments.segment_faces) {
         if segments.regular[f as usize] {
             for node in seg {
                 if let Node::Edge(e) = *node {
-                    marked_by_regular.insert(e);
+                    marked_by_regular[e as usize] = true;
                 }
             }
         }
     }
+    let regular = &segments.regular;
+    // Per singular face with at least one marked edge: its marked edges.
+    let marked: Vec<(u32, [u32; 3], usize)> = (0..mesh.num_faces() as u32)
+        .into_par_iter()
+        .filter(|&f| !regular[f as usize])
+        .filter_map(|f| {
+            let mut edges = [0u32; 3];
+            let mut count = 0;
+            for s in 0..3 {
+                let e = topo.face_edges(f)[s];
+                let across_regular = topo.face_across(f, s).is_some_and(|g| regular[g as usize]);
+                if across_regular && marked_by_regular[e as usize] {
+                    edges[count] = e;
+                    count += 1;
+                }
+            }
+            (count > 0).then_some((f, edges, count))
+        })
+        .collect();
     let mut cases = SingularCases::default();
-    for f in 0..mesh.num_faces() as u32 {
-        if segments.regular[f as usize] {
-            continue;
-        }
-        let marked: Vec<u32> = (0..3)
-            .filter(|&s| {
-                topo.face_across(f, s)
-                    .is_some_and(|g| segments.regular[g as usize])
-            })
-            .map(|s| topo.face_edges(f)[s])
-            .filter(|e| marked_by_regular.contains(e))
-            .collect();
-        match marked[..] {
+    for (f, edges, count) in marked {
+        match edges[..count] {
             [a, b] => {
                 cases.regular += 1;
                 segments.segments.push([Node::Edge(a), Node::Edge(b)]);
@@ -67,8 +76,7 @@ pub fn process_singular_triangles(mesh: &TriMesh, segments: &mut FamilySegments)
                     segments.segment_faces.push(f);
                 }
             }
-            [_] => cases.start_end += 1,
-            _ => {}
+            _ => cases.start_end += 1,
         }
     }
     cases

@@ -142,6 +142,9 @@ pub fn trace_regular_triangles(mesh: &TriMesh, family: &Family<'_>) -> FamilySeg
         regular: per_face.iter().map(|(r, _)| *r).collect(),
         ..Default::default()
     };
+    let found = per_face.iter().filter(|(_, seg)| seg.is_some()).count();
+    out.segments.reserve_exact(found);
+    out.segment_faces.reserve_exact(found);
     for (f, (_, seg)) in per_face.into_iter().enumerate() {
         if let Some(s) = seg {
             out.segments.push(s);
@@ -196,12 +199,12 @@ fn feature_segment(
     if !extremum_ok {
         return None;
     }
-    let crossed: Vec<Node> = (0..3)
+    // The signs are not all equal, so exactly two of the three edges change sign.
+    let mut crossed = (0..3)
         .filter(|&s| positive[s] != positive[(s + 1) % 3])
-        .map(|s| Node::Edge(edges[s]))
-        .collect();
-    match crossed[..] {
-        [a, b] => Some([a, b]),
+        .map(|s| Node::Edge(edges[s]));
+    match (crossed.next(), crossed.next()) {
+        (Some(a), Some(b)) => Some([a, b]),
         _ => None,
     }
 }

@@ -81,43 +81,95 @@ impl Topology {
                 .flat_map(|(f, t)| t.map(|v| (v, f as u32))),
         );
 
-        // Every half-edge as (smaller endpoint, larger endpoint) packed in a u64 key with its
-        // face and slot (slot s of a face is the edge from corner s to corner s + 1); one sort
-        // groups the faces of each undirected edge. Edge ids follow the key order, so they are
-        // deterministic.
-        let mut half_edges: Vec<(u64, u32)> = faces
+        // Edges are numbered vertex by vertex: the edges (v, w) with w > v, by increasing w.
+        // Ids therefore follow the pair (smaller endpoint, larger endpoint), as a global sort
+        // of the half-edges would give, but each vertex only looks at its own faces: parallel,
+        // and nothing larger than the result is allocated.
+        let n = num_vertices;
+        let faces_of = |v: usize| {
+            &vertex_faces[vertex_face_offsets[v] as usize..vertex_face_offsets[v + 1] as usize]
+        };
+        // The neighbours above `v`, sorted and deduplicated, into `scratch`.
+        let upper_neighbours = |v: usize, scratch: &mut Vec<u32>| {
+            scratch.clear();
+            for &f in faces_of(v) {
+                scratch.extend(faces[f as usize].iter().filter(|&&w| w as usize > v));
+            }
+            scratch.sort_unstable();
+            scratch.dedup();
+        };
+        let upper_counts: Vec<u32> = (0..n)
+            .into_par_iter()
+            .map_init(Vec::new, |scratch, v| {
+                upper_neighbours(v, scratch);
+                scratch.len() as u32
+            })
+            .collect();
+        let edge_start = prefix_sums(&upper_counts);
+        drop(upper_counts);
+
+        // The edges, and per edge the number of its faces (faces of v that contain w).
+        let m = edge_start[n] as usize;
+        let mut edges = vec![[0u32; 2]; m];
+        let mut face_counts = vec![0u32; m];
+        split_rows(&mut edges, &edge_start, ROW_BLOCK)
+            .into_par_iter()
+            .zip(split_rows(&mut face_counts, &edge_start, ROW_BLOCK))
+            .for_each_init(Vec::new, |scratch, ((rows, edges), (_, counts))| {
+                let mut k = 0;
+                for v in rows {
+                    upper_neighbours(v, scratch);
+                    for &w in scratch.iter() {
+                        edges[k] = [v as u32, w];
+                        counts[k] = faces_of(v)
+                            .iter()
+                            .filter(|&&f| faces[f as usize].contains(&w))
+                            .count() as u32;
+                        k += 1;
+                    }
+                }
+            });
+        let edge_face_offsets = prefix_sums(&face_counts);
+        drop(face_counts);
+
+        // The faces of each edge, by increasing face index.
+        let mut edge_faces = vec![0u32; edge_face_offsets[m] as usize];
+        let face_start: Vec<u32> = edge_start
+            .iter()
+            .map(|&e| edge_face_offsets[e as usize])
+            .collect();
+        split_rows(&mut edge_faces, &face_start, ROW_BLOCK)
+            .into_par_iter()
+            .for_each(|(rows, out)| {
+                let mut k = 0;
+                for v in rows {
+                    let first = edge_start[v] as usize;
+                    for &[_, w] in &edges[first..edge_start[v + 1] as usize] {
+                        for &f in faces_of(v) {
+                            if faces[f as usize].contains(&w) {
+                                out[k] = f;
+                                k += 1;
+                            }
+                        }
+                    }
+                }
+            });
+        drop(face_start);
+
+        // Slot s of a face is the edge from corner s to corner s + 1.
+        let face_edges: Vec<[u32; 3]> = faces
             .par_iter()
-            .enumerate()
-            .flat_map_iter(|(f, t)| {
-                (0..3).map(move |s| {
-                    let (a, b) = (t[s], t[(s + 1) % 3]);
-                    let key = ((a.min(b) as u64) << 32) | a.max(b) as u64;
-                    (key, ((f as u32) << 2) | s as u32)
+            .map(|t| {
+                [0, 1, 2].map(|s| {
+                    let (a, b) = (t[s].min(t[(s + 1) % 3]), t[s].max(t[(s + 1) % 3]));
+                    let (first, last) = (edge_start[a as usize], edge_start[a as usize + 1]);
+                    edges[first as usize..last as usize]
+                        .binary_search_by_key(&b, |&[_, w]| w)
+                        .map_or(NONE, |i| first + i as u32)
                 })
             })
             .collect();
-        half_edges.par_sort_unstable();
-
-        let mut edges = Vec::with_capacity(half_edges.len() / 2 + 1);
-        let mut edge_face_offsets = Vec::with_capacity(half_edges.len() / 2 + 2);
-        edge_face_offsets.push(0u32);
-        let mut edge_faces = Vec::with_capacity(half_edges.len());
-        let mut face_edges = vec![[NONE; 3]; faces.len()];
-        let mut i = 0;
-        while i < half_edges.len() {
-            let key = half_edges[i].0;
-            let e = edges.len() as u32;
-            edges.push([(key >> 32) as u32, key as u32]);
-            while i < half_edges.len() && half_edges[i].0 == key {
-                let packed = half_edges[i].1;
-                let (f, s) = (packed >> 2, (packed & 3) as usize);
-                edge_faces.push(f);
-                face_edges[f as usize][s] = e;
-                i += 1;
-            }
-            edge_face_offsets.push(edge_faces.len() as u32);
-        }
-        drop(half_edges);
+        drop(edge_start);
 
         let (vertex_edge_offsets, vertex_edges) = compressed_rows(
             num_vertices,
@@ -212,7 +264,9 @@ impl Topology {
             [self.vertex_face_offsets[v] as usize..self.vertex_face_offsets[v + 1] as usize]
     }
 
-    /// Edges incident to vertex `v`, unordered.
+    /// Edges incident to vertex `v`, in increasing id order. Ids follow the pair (smaller
+    /// endpoint, larger endpoint), so the edges to neighbours below `v` come first, then
+    /// those to neighbours above it, each group by increasing neighbour.
     #[inline]
     pub fn vertex_edges(&self, v: u32) -> &[u32] {
         let v = v as usize;
@@ -220,7 +274,7 @@ impl Topology {
             [self.vertex_edge_offsets[v] as usize..self.vertex_edge_offsets[v + 1] as usize]
     }
 
-    /// Neighbours of `v` (each once), unordered.
+    /// Neighbours of `v` (each once), in increasing order.
     pub fn neighbors(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
         self.vertex_edges(v).iter().map(move |&e| {
             let [a, b] = self.edges[e as usize];
@@ -535,6 +589,40 @@ impl Topology {
     }
 }
 
+/// Rows per parallel work item when filling compressed rows.
+pub(crate) const ROW_BLOCK: usize = 2048;
+
+/// Offsets from counts: `[0, c0, c0 + c1, ...]` (one more than the counts).
+fn prefix_sums(counts: &[u32]) -> Vec<u32> {
+    let mut offsets = Vec::with_capacity(counts.len() + 1);
+    let mut total = 0u32;
+    offsets.push(0);
+    for &c in counts {
+        total += c;
+        offsets.push(total);
+    }
+    offsets
+}
+
+/// Cuts `values`, laid out in compressed rows with offsets `offsets`, into pieces of `block`
+/// rows each: `(rows, entries of those rows)`, for filling the rows in parallel.
+pub(crate) fn split_rows<'a, T>(
+    values: &'a mut [T],
+    offsets: &[u32],
+    block: usize,
+) -> Vec<(std::ops::Range<usize>, &'a mut [T])> {
+    let rows = offsets.len().saturating_sub(1);
+    let mut pieces = Vec::with_capacity(rows.div_ceil(block.max(1)));
+    let mut rest = values;
+    for first in (0..rows).step_by(block.max(1)) {
+        let last = (first + block).min(rows);
+        let (piece, tail) = rest.split_at_mut((offsets[last] - offsets[first]) as usize);
+        pieces.push((first..last, piece));
+        rest = tail;
+    }
+    pieces
+}
+
 /// Compressed rows from (row, value) pairs: offsets of length `rows + 1` and values grouped by
 /// row, in the order the pairs came.
 fn compressed_rows(
@@ -649,6 +737,83 @@ mod tests {
         assert_eq!(t.edge_kind(e), EdgeKind::NonManifold);
         assert_eq!(t.vertex_kind(0), VertexKind::NonManifold);
         assert_eq!(t.vertex_kind(2), VertexKind::Boundary);
+    }
+
+    /// The connectivity built the slow, obvious way: all half-edges sorted by (smaller end,
+    /// larger end, face).
+    fn reference(n: usize, faces: &[[u32; 3]]) -> (Vec<[u32; 2]>, Vec<Vec<u32>>, Vec<[u32; 3]>) {
+        let mut half: Vec<(u32, u32, u32, usize)> = Vec::new();
+        for (f, t) in faces.iter().enumerate() {
+            for s in 0..3 {
+                let (a, b) = (t[s], t[(s + 1) % 3]);
+                half.push((a.min(b), a.max(b), f as u32, s));
+            }
+        }
+        half.sort_unstable();
+        let (mut edges, mut edge_faces) = (Vec::<[u32; 2]>::new(), Vec::<Vec<u32>>::new());
+        let mut face_edges = vec![[NONE; 3]; faces.len()];
+        for (a, b, f, s) in half {
+            if edges.last() != Some(&[a, b]) {
+                edges.push([a, b]);
+                edge_faces.push(Vec::new());
+            }
+            edge_faces.last_mut().unwrap().push(f);
+            face_edges[f as usize][s] = edges.len() as u32 - 1;
+        }
+        assert!(edges.iter().all(|e| (e[1] as usize) < n));
+        (edges, edge_faces, face_edges)
+    }
+
+    #[test]
+    fn matches_the_obvious_construction() {
+        let torus = crate::shapes::torus(3.0, 1.0, 12, 7);
+        // A soup with a fin, a bowtie, isolated vertices and shuffled winding.
+        let soup = vec![
+            [0, 1, 2],
+            [1, 0, 3],
+            [0, 1, 4],
+            [2, 5, 6],
+            [9, 2, 5],
+            [7, 8, 2],
+            [8, 7, 11],
+        ];
+        for (n, faces) in [
+            (6, octahedron()),
+            (5, vec![[0, 1, 2], [0, 3, 4]]),
+            (12, soup),
+            (torus.num_vertices(), torus.faces().to_vec()),
+        ] {
+            let t = Topology::build(n, &faces);
+            let (edges, edge_faces, face_edges) = reference(n, &faces);
+            assert_eq!(t.edges(), &edges[..]);
+            for (e, expected) in edge_faces.iter().enumerate() {
+                assert_eq!(t.edge_faces(e as u32), &expected[..]);
+            }
+            for (f, expected) in face_edges.iter().enumerate() {
+                assert_eq!(t.face_edges(f as u32), *expected);
+            }
+            for v in 0..n as u32 {
+                let mut expected: Vec<u32> = (0..edges.len() as u32)
+                    .filter(|&e| edges[e as usize].contains(&v))
+                    .collect();
+                expected.sort_unstable();
+                assert_eq!(t.vertex_edges(v), &expected[..]);
+            }
+        }
+    }
+
+    #[test]
+    fn vertex_edges_are_ordered_by_neighbour() {
+        let faces = octahedron();
+        let t = Topology::build(6, &faces);
+        for v in 0..6 {
+            let neighbours: Vec<u32> = t.neighbors(v).collect();
+            assert!(
+                neighbours.windows(2).all(|w| w[0] < w[1]),
+                "{v}: {neighbours:?}"
+            );
+            assert!(t.vertex_edges(v).windows(2).all(|w| w[0] < w[1]));
+        }
     }
 
     #[test]

@@ -5,8 +5,9 @@
 //! principal direction. HPW smooth them with the modified Laplacian
 //! `Δe(p) = Σ_q w_pq (σ_pq e(q) − e(p))`, `σ_pq = sign⟨dir(p), dir(q)⟩`, which works on the
 //! whole mesh (singular triangles included). Here each step is implicit,
-//! `(M + t L_σ) e' = M e` (see [`super::DiffusionOperator`]), with one operator per family
-//! (the signs differ) sharing one symbolic factorisation.
+//! `(M + t L_σ) e' = M e` (see [`super::DiffusionOperator`]); the two families share the
+//! weights, differ in their signs, and are solved together (by default with conjugate
+//! gradients, [`super::conjugate_gradient`]).
 //!
 //! The result does not depend on the initial choice of signs: flipping `dir(p)` flips `e(p)`
 //! and every `σ_pq` at `p`, i.e. conjugates the system by a diagonal ±1 matrix.
@@ -33,7 +34,9 @@ use crate::curvature::Curvature;
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3, mean_edge_length};
 
-use super::{DiffusionOperator, DiffusionPattern, cotan_weights, lumped_mass};
+use rayon::prelude::*;
+
+use super::{DiffusionOperator, LinearSolver, cotan_weights, lumped_mass};
 
 /// Options of [`smooth_extremalities`].
 #[derive(Debug, Clone, PartialEq)]
@@ -56,6 +59,10 @@ pub struct ExtremalitySmoothing {
     ///
     /// Default: [`DEFAULT_CREASE_ANGLE`].
     pub crease_angle: f64,
+    /// The linear solver of the implicit steps.
+    /// Default: [`LinearSolver::DEFAULT`] (Jacobi-preconditioned conjugate gradients,
+    /// relative tolerance 1e-5).
+    pub solver: LinearSolver,
 }
 
 /// Default of [`ExtremalitySmoothing::crease_angle`]: 0.3 rad (about 17°). Measured on fandisk
@@ -70,6 +77,7 @@ impl Default for ExtremalitySmoothing {
             time_step: 1.0,
             diffusion: None,
             crease_angle: DEFAULT_CREASE_ANGLE,
+            solver: LinearSolver::DEFAULT,
         }
     }
 }
@@ -157,7 +165,7 @@ fn attenuate_across_jumps(
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for negative or non-finite options or factors of the wrong length;
-/// [`Error::Solver`] if a factorisation fails.
+/// [`Error::Solver`] if a factorisation fails or the iterative solver does not converge.
 pub fn smooth_extremalities(
     mesh: &TriMesh,
     curvature: &mut Curvature,
@@ -168,25 +176,24 @@ pub fn smooth_extremalities(
     }
     let smoother = ExtremalitySmoother::new(mesh, curvature, options)?;
     for _ in 0..options.steps {
-        smoother.step(&mut curvature.e_max, &mut curvature.e_min);
+        smoother.step(&mut curvature.e_max, &mut curvature.e_min)?;
     }
     Ok(())
 }
 
-/// The factorised smoothing operators of both families, for repeated steps.
+/// The smoothing operator of both families, for repeated steps.
 #[derive(Debug)]
-pub struct ExtremalitySmoother {
-    max_family: DiffusionOperator,
-    min_family: DiffusionOperator,
+pub struct ExtremalitySmoother<'m> {
+    operator: DiffusionOperator<'m>,
 }
 
-impl ExtremalitySmoother {
-    /// Factorises both operators once.
+impl<'m> ExtremalitySmoother<'m> {
+    /// Builds the operator once (and factorises it, for [`LinearSolver::Cholesky`]).
     ///
     /// # Errors
     /// As [`smooth_extremalities`].
     pub fn new(
-        mesh: &TriMesh,
+        mesh: &'m TriMesh,
         curvature: &Curvature,
         options: &ExtremalitySmoothing,
     ) -> Result<Self> {
@@ -216,9 +223,10 @@ impl ExtremalitySmoother {
                     f.len()
                 )));
             }
-            for (w, &[a, b]) in weights.iter_mut().zip(mesh.topology().edges()) {
-                *w *= 0.5 * (f[a as usize] + f[b as usize]);
-            }
+            weights
+                .par_iter_mut()
+                .zip(mesh.topology().edges())
+                .for_each(|(w, &[a, b])| *w *= 0.5 * (f[a as usize] + f[b as usize]));
         }
         if options.crease_angle > 0.0 {
             attenuate_across_jumps(mesh, curvature, options.crease_angle, &mut weights);
@@ -226,46 +234,33 @@ impl ExtremalitySmoother {
         let mass = lumped_mass(mesh, mesh.positions());
         let h = mean_edge_length(mesh);
         let time = options.time_step * h * h;
-        let pattern = DiffusionPattern::new(mesh)?;
-        let signs = |dirs: &[Vec3]| -> Vec<f64> {
+        let flips = |dirs: &[Vec3]| -> Vec<bool> {
             mesh.topology()
                 .edges()
-                .iter()
-                .map(|&[a, b]| {
-                    if dirs[a as usize].dot(&dirs[b as usize]) < 0.0 {
-                        -1.0
-                    } else {
-                        1.0
-                    }
-                })
+                .par_iter()
+                .map(|&[a, b]| dirs[a as usize].dot(&dirs[b as usize]) < 0.0)
                 .collect()
         };
-        let max_family = DiffusionOperator::new(
-            &pattern,
-            &weights,
-            Some(&signs(&curvature.dir_max)),
-            &mass,
+        let (max_flips, min_flips) = (flips(&curvature.dir_max), flips(&curvature.dir_min));
+        let operator = DiffusionOperator::new(
+            mesh,
+            weights,
+            mass,
             time,
+            &[Some(&max_flips), Some(&min_flips)],
+            options.solver,
         )?;
-        let min_family = DiffusionOperator::new(
-            &pattern,
-            &weights,
-            Some(&signs(&curvature.dir_min)),
-            &mass,
-            time,
-        )?;
-        Ok(ExtremalitySmoother {
-            max_family,
-            min_family,
-        })
+        Ok(ExtremalitySmoother { operator })
     }
 
-    /// One implicit step of both families, in place.
-    pub fn step(&self, e_max: &mut [f64], e_min: &mut [f64]) {
-        rayon::join(
-            || self.max_family.step(e_max),
-            || self.min_family.step(e_min),
-        );
+    /// One implicit step of both families, in place. Returns the conjugate-gradient
+    /// iterations (0 for Cholesky).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when a field does not match the mesh; [`Error::Solver`] when
+    /// conjugate gradients do not converge.
+    pub fn step(&self, e_max: &mut [f64], e_min: &mut [f64]) -> Result<usize> {
+        self.operator.step(&mut [e_max, e_min])
     }
 }
 
@@ -273,6 +268,7 @@ impl ExtremalitySmoother {
 mod tests {
     use super::*;
     use crate::shapes;
+    use crate::smoothing::ConjugateGradientOptions;
 
     /// A synthetic field on a torus: directions along the tube circles, e a smooth function
     /// plus high-frequency noise.
@@ -301,10 +297,20 @@ mod tests {
 
     #[test]
     fn result_does_not_depend_on_the_initial_signs() {
+        for solver in [LinearSolver::DEFAULT, LinearSolver::Cholesky] {
+            signs_do_not_matter(solver);
+        }
+    }
+
+    fn signs_do_not_matter(solver: LinearSolver) {
         let mesh = shapes::torus(3.0, 1.0, 40, 16);
         let base = synthetic(&mesh);
+        let options = ExtremalitySmoothing {
+            solver,
+            ..Default::default()
+        };
         let mut plain = base.clone();
-        smooth_extremalities(&mesh, &mut plain, &ExtremalitySmoothing::default()).unwrap();
+        smooth_extremalities(&mesh, &mut plain, &options).unwrap();
 
         // Flip a pseudo-random subset of directions (and their extremalities).
         let mut flipped = base.clone();
@@ -319,7 +325,7 @@ mod tests {
                 flipped.e_min[i] = -flipped.e_min[i];
             }
         }
-        smooth_extremalities(&mesh, &mut flipped, &ExtremalitySmoothing::default()).unwrap();
+        smooth_extremalities(&mesh, &mut flipped, &options).unwrap();
         for (i, &f) in flip.iter().enumerate() {
             let s = if f { -1.0 } else { 1.0 };
             assert!((s * flipped.e_max[i] - plain.e_max[i]).abs() < 1e-9);
@@ -334,6 +340,36 @@ mod tests {
                 .sum()
         };
         assert!(roughness(&plain.e_max) < 0.2 * roughness(&base.e_max));
+    }
+
+    #[test]
+    fn default_solver_agrees_with_cholesky() {
+        // The default tolerance (relative residual per step) keeps the smoothed
+        // extremalities within about that of the exact solves.
+        let mesh = shapes::torus(3.0, 1.0, 40, 16);
+        let base = synthetic(&mesh);
+        let run = |solver| {
+            let mut c = base.clone();
+            let options = ExtremalitySmoothing {
+                solver,
+                ..Default::default()
+            };
+            smooth_extremalities(&mesh, &mut c, &options).unwrap();
+            c
+        };
+        let (cg, exact) = (run(LinearSolver::DEFAULT), run(LinearSolver::Cholesky));
+        for (x, y) in [(&cg.e_max, &exact.e_max), (&cg.e_min, &exact.e_min)] {
+            let scale = y.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+            let worst = x
+                .iter()
+                .zip(y)
+                .fold(0.0f64, |s, (a, b)| s.max((a - b).abs()));
+            let tolerance = ConjugateGradientOptions::DEFAULT.tolerance;
+            assert!(
+                worst < 10.0 * tolerance * scale,
+                "{worst:e} vs scale {scale}"
+            );
+        }
     }
 
     #[test]

@@ -5,28 +5,32 @@
 //! - [`surface`]: optional pre-smoothing of the surface by implicit fairing (Desbrun, Meyer,
 //!   Schröder, Barr 1999).
 //!
-//! Both solve `(M + t L) u_new = M u_old` per implicit time step, with `M` the lumped
-//! (barycentric) mass matrix and `L` a positive semi-definite cotan Laplacian. The matrix is
-//! the same in every step, so it is factorised once (faer's sparse Cholesky with a
-//! fill-reducing ordering) and the factorisation is reused; [`DiffusionOperator`] is that
-//! stateful object.
+//! Both solve `(M + t L_σ) u_new = M u_old` per implicit time step, with `M` the lumped
+//! (barycentric) mass matrix and `L_σ` a positive semi-definite cotan (connection) Laplacian.
+//! [`DiffusionOperator`] is the stateful object that holds the matrix between steps, with
+//! one of two solvers ([`LinearSolver`]):
+//! - [`conjugate_gradient`] (default): preconditioned conjugate gradients started from the
+//!   previous step, on the matrix in compressed rows; fast and linear in memory;
+//! - [`cholesky`]: faer's sparse Cholesky, factorised once per sign pattern; exact to rounding
+//!   but its fill-in costs time and memory.
 //!
 //! Cotan weights "stay sane": the weight of an edge is `½ Σ cot(opposite angle)` over its faces,
 //! each cotangent capped at ±[`MAX_COT`] (slivers), and a negative total (an edge opposite
 //! two obtuse angles) is clamped to zero. With non-negative weights the operator stays
 //! positive semi-definite, so every implicit step is unconditionally stable.
 
+pub mod cholesky;
+pub mod conjugate_gradient;
 pub mod extremality;
 pub mod surface;
 
-use faer::Side;
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use rayon::prelude::*;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::mesh::{TriMesh, Vec3};
+
+pub use cholesky::{CholeskySystem, DiffusionPattern};
+pub use conjugate_gradient::{ConjugateGradientOptions, ConnectionSystem, Preconditioner};
 
 /// Cap on the magnitude of one cotangent (an angle of about 0.06°).
 pub const MAX_COT: f64 = 1e3;
@@ -76,12 +80,11 @@ pub fn lumped_mass(mesh: &TriMesh, positions: &[Vec3]) -> Vec<f64> {
         .into_par_iter()
         .map(|v| topo.vertex_faces(v).iter().map(|&f| area(f)).sum::<f64>() / 3.0)
         .collect();
-    let positive: Vec<f64> = mass.iter().copied().filter(|&m| m > 0.0).collect();
-    let fill = if positive.is_empty() {
-        1.0
-    } else {
-        positive.iter().sum::<f64>() / positive.len() as f64
-    };
+    let (sum, count) = mass
+        .iter()
+        .filter(|&&m| m > 0.0)
+        .fold((0.0, 0usize), |(s, c), &m| (s + m, c + 1));
+    let fill = if count == 0 { 1.0 } else { sum / count as f64 };
     for m in &mut mass {
         if *m <= 0.0 {
             *m = fill;
@@ -90,135 +93,109 @@ pub fn lumped_mass(mesh: &TriMesh, positions: &[Vec3]) -> Vec<f64> {
     mass
 }
 
-/// A factorised implicit diffusion step `(M + t L_σ) u' = M u`.
+/// How the implicit steps are solved.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LinearSolver {
+    /// Jacobi-preconditioned conjugate gradients, warm-started from the previous step
+    /// ([`conjugate_gradient`]).
+    ConjugateGradient(ConjugateGradientOptions),
+    /// Sparse Cholesky factorisation, once per sign pattern ([`cholesky`]).
+    Cholesky,
+}
+
+impl LinearSolver {
+    /// The default: conjugate gradients with [`ConjugateGradientOptions::DEFAULT`].
+    pub const DEFAULT: Self = LinearSolver::ConjugateGradient(ConjugateGradientOptions::DEFAULT);
+}
+
+impl Default for LinearSolver {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// An implicit diffusion step `(M + t L_σ) u' = M u` on one or more fields, ready to be
+/// taken repeatedly.
 ///
 /// `L_σ` is the connection Laplacian `(L_σ u)(p) = Σ_q w_pq (u(p) − σ_pq u(q))` with
-/// `σ_pq ∈ {−1, +1}` per edge (all `+1` gives the ordinary Laplacian). It is positive
-/// semi-definite for non-negative weights, so `M + t L_σ` is positive definite.
+/// `σ_pq ∈ {−1, +1}` per edge and field (all `+1` gives the ordinary Laplacian). It is
+/// positive semi-definite for non-negative weights, so `M + t L_σ` is positive definite.
 #[derive(Debug)]
-pub struct DiffusionOperator {
-    llt: Llt<u32, f64>,
-    mass: Vec<f64>,
+pub struct DiffusionOperator<'m> {
+    mesh: &'m TriMesh,
+    solver: Solver<'m>,
 }
 
-/// The symbolic (pattern-only) part of a factorisation, shareable between operators on the
-/// same mesh (for example the two extremality families).
-#[derive(Debug, Clone)]
-pub struct DiffusionPattern {
-    symbolic: SymbolicLlt<u32>,
-    col_ptr: Vec<u32>,
-    row_idx: Vec<u32>,
-    /// For each stored entry: `None` for the diagonal, `Some(edge)` for an off-diagonal one.
-    entry_edge: Vec<Option<u32>>,
+#[derive(Debug)]
+enum Solver<'m> {
+    ConjugateGradient(ConnectionSystem<'m>),
+    Cholesky(CholeskySystem),
 }
 
-impl DiffusionPattern {
-    /// Analyses the sparsity pattern of the mesh's vertex graph (lower triangle).
-    ///
-    /// # Errors
-    /// [`Error::Solver`] when the symbolic factorisation fails (out of memory).
-    pub fn new(mesh: &TriMesh) -> Result<Self> {
-        let topo = mesh.topology();
-        let n = mesh.num_vertices();
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(n + topo.num_edges());
-        let mut entry_edge = Vec::with_capacity(n + topo.num_edges());
-        let mut column: Vec<(u32, u32)> = Vec::new();
-        col_ptr.push(0u32);
-        for j in 0..n as u32 {
-            column.clear();
-            column.extend(topo.vertex_edges(j).iter().filter_map(|&e| {
-                let [a, b] = topo.edge(e);
-                let other = if a == j { b } else { a };
-                (other > j).then_some((other, e))
-            }));
-            column.sort_unstable();
-            row_idx.push(j);
-            entry_edge.push(None);
-            for &(i, e) in &column {
-                row_idx.push(i);
-                entry_edge.push(Some(e));
-            }
-            col_ptr.push(row_idx.len() as u32);
-        }
-        let structure =
-            SymbolicSparseColMat::new_checked(n, n, col_ptr.clone(), None, row_idx.clone());
-        let symbolic = SymbolicLlt::try_new(structure.as_ref(), Side::Lower)
-            .map_err(|e| Error::Solver(format!("symbolic Cholesky failed: {e:?}")))?;
-        Ok(DiffusionPattern {
-            symbolic,
-            col_ptr,
-            row_idx,
-            entry_edge,
-        })
-    }
-}
-
-impl DiffusionOperator {
-    /// Factorises `M + t L_σ`.
+impl<'m> DiffusionOperator<'m> {
+    /// Prepares `M + t L_σ`.
     ///
     /// `weights` are per-edge non-negative diffusion weights (cotan weights, possibly scaled
-    /// by local factors), `signs` per-edge `σ` (`None` means all `+1`), `mass` the lumped mass
-    /// and `time` the step `t` (in units of area).
+    /// by local factors), `mass` the lumped mass, `time` the step `t` (in units of area) and
+    /// `flips` one entry per field: the edges where `σ = −1` (`None`: `σ = +1` everywhere).
     ///
     /// # Errors
-    /// [`Error::Solver`] when the matrix is not numerically positive definite.
+    /// [`crate::Error::InvalidInput`] for mismatched lengths or invalid solver options;
+    /// [`crate::Error::Solver`] when a Cholesky factorisation fails.
     pub fn new(
-        pattern: &DiffusionPattern,
-        weights: &[f64],
-        signs: Option<&[f64]>,
-        mass: &[f64],
+        mesh: &'m TriMesh,
+        weights: Vec<f64>,
+        mass: Vec<f64>,
         time: f64,
+        flips: &[Option<&[bool]>],
+        solver: LinearSolver,
     ) -> Result<Self> {
-        let n = mass.len();
-        let mut values = vec![0.0; pattern.row_idx.len()];
-        let mut diagonal = mass.to_vec();
-        for j in 0..n {
-            let range = pattern.col_ptr[j] as usize..pattern.col_ptr[j + 1] as usize;
-            for k in range {
-                if let Some(e) = pattern.entry_edge[k] {
-                    let w = time * weights[e as usize];
-                    values[k] = -w * signs.map_or(1.0, |s| s[e as usize]);
-                    diagonal[j] += w;
-                    diagonal[pattern.row_idx[k] as usize] += w;
-                }
+        let solver = match solver {
+            LinearSolver::ConjugateGradient(options) => Solver::ConjugateGradient(
+                ConnectionSystem::new(mesh.topology(), weights, mass, time, flips, options)?,
+            ),
+            LinearSolver::Cholesky => {
+                Solver::Cholesky(CholeskySystem::new(mesh, &weights, mass, time, flips)?)
             }
-        }
-        for j in 0..n {
-            // The first entry of every column is its diagonal.
-            values[pattern.col_ptr[j] as usize] = diagonal[j];
-        }
-        let structure = SymbolicSparseColMat::new_checked(
-            n,
-            n,
-            pattern.col_ptr.clone(),
-            None,
-            pattern.row_idx.clone(),
-        );
-        let matrix = SparseColMat::new(structure, values);
-        let llt =
-            Llt::try_new_with_symbolic(pattern.symbolic.clone(), matrix.as_ref(), Side::Lower)
-                .map_err(|e| Error::Solver(format!("Cholesky factorisation failed: {e:?}")))?;
-        Ok(DiffusionOperator {
-            llt,
-            mass: mass.to_vec(),
-        })
+        };
+        Ok(DiffusionOperator { mesh, solver })
     }
 
-    /// One implicit step on `k` fields stored column after column in `values`
-    /// (`values.len() == k · n`), in place.
-    pub fn step(&self, values: &mut [f64]) {
-        let n = self.mass.len();
-        if n == 0 {
-            return;
+    /// Replaces the weights and the mass (same mesh, signs and time step), for flows whose
+    /// weights change every step.
+    ///
+    /// # Errors
+    /// As [`DiffusionOperator::new`].
+    pub fn update(&mut self, weights: Vec<f64>, mass: Vec<f64>, time: f64) -> Result<()> {
+        match &mut self.solver {
+            Solver::ConjugateGradient(s) => s.update(weights, mass, time),
+            Solver::Cholesky(s) => s.update(&weights, mass, time),
         }
-        let k = values.len() / n;
-        let mut rhs = faer::Mat::<f64>::from_fn(n, k, |i, j| self.mass[i] * values[j * n + i]);
-        self.llt.solve_in_place(rhs.as_mut());
-        for j in 0..k {
-            for i in 0..n {
-                values[j * n + i] = rhs[(i, j)];
-            }
+    }
+
+    /// The mesh the operator lives on.
+    pub fn mesh(&self) -> &'m TriMesh {
+        self.mesh
+    }
+
+    /// Number of fields each step takes.
+    pub fn fields(&self) -> usize {
+        match &self.solver {
+            Solver::ConjugateGradient(s) => s.fields(),
+            Solver::Cholesky(s) => s.fields(),
+        }
+    }
+
+    /// One implicit step on every field, in place (`fields[f]` holds one value per vertex).
+    /// Returns the conjugate-gradient iterations of the slowest field (0 for Cholesky).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidInput`] for a wrong number or length of fields;
+    /// [`crate::Error::Solver`] when conjugate gradients do not converge.
+    pub fn step(&self, fields: &mut [&mut [f64]]) -> Result<usize> {
+        match &self.solver {
+            Solver::ConjugateGradient(s) => s.step(fields),
+            Solver::Cholesky(s) => s.step(fields).map(|()| 0),
         }
     }
 }
@@ -249,23 +226,83 @@ mod tests {
         }
     }
 
+    /// Every solver, the conjugate gradients run to a tight tolerance.
+    fn solvers() -> [LinearSolver; 3] {
+        let tight = ConjugateGradientOptions::DEFAULT.with_tolerance(1e-13);
+        [
+            LinearSolver::ConjugateGradient(tight),
+            LinearSolver::ConjugateGradient(
+                tight.with_preconditioner(Preconditioner::SymmetricGaussSeidel),
+            ),
+            LinearSolver::Cholesky,
+        ]
+    }
+
     #[test]
     fn laplacian_annihilates_constants_and_keeps_the_mean() {
         // (M + tL) u' = M u preserves Σ M u for σ = +1, and constants are fixed points.
         let m = shapes::torus(3.0, 1.0, 20, 10);
-        let pattern = DiffusionPattern::new(&m).unwrap();
-        let w = cotan_weights(&m, m.positions());
-        let mass = lumped_mass(&m, m.positions());
-        let op = DiffusionOperator::new(&pattern, &w, None, &mass, 0.5).unwrap();
-        let mut c = vec![2.5; m.num_vertices()];
-        op.step(&mut c);
-        assert!(c.iter().all(|x| (x - 2.5).abs() < 1e-10));
-        let mut u: Vec<f64> = m.positions().iter().map(|p| p.x * p.z + p.y).collect();
-        let before: f64 = u.iter().zip(&mass).map(|(a, b)| a * b).sum();
-        let spread_before = u.iter().cloned().fold(f64::MIN, f64::max);
-        op.step(&mut u);
-        let after: f64 = u.iter().zip(&mass).map(|(a, b)| a * b).sum();
-        assert!((before - after).abs() < 1e-9 * before.abs().max(1.0));
-        assert!(u.iter().cloned().fold(f64::MIN, f64::max) < spread_before);
+        for solver in solvers() {
+            let w = cotan_weights(&m, m.positions());
+            let mass = lumped_mass(&m, m.positions());
+            let op = DiffusionOperator::new(&m, w, mass.clone(), 0.5, &[None], solver).unwrap();
+            let mut c = vec![2.5; m.num_vertices()];
+            op.step(&mut [&mut c]).unwrap();
+            assert!(c.iter().all(|x| (x - 2.5).abs() < 1e-10), "{solver:?}");
+            let mut u: Vec<f64> = m.positions().iter().map(|p| p.x * p.z + p.y).collect();
+            let before: f64 = u.iter().zip(&mass).map(|(a, b)| a * b).sum();
+            let spread_before = u.iter().cloned().fold(f64::MIN, f64::max);
+            op.step(&mut [&mut u]).unwrap();
+            let after: f64 = u.iter().zip(&mass).map(|(a, b)| a * b).sum();
+            assert!(
+                (before - after).abs() < 1e-9 * before.abs().max(1.0),
+                "{solver:?}"
+            );
+            assert!(u.iter().cloned().fold(f64::MIN, f64::max) < spread_before);
+        }
+    }
+
+    #[test]
+    fn conjugate_gradients_agree_with_cholesky() {
+        // Two fields with different signs and one without, on an ellipsoid (irregular
+        // cotan weights), several steps: warm starts must not drift from the exact solves.
+        let m = shapes::ellipsoid(1.0, 0.7, 0.4, 3);
+        let topo = m.topology();
+        let flips: Vec<bool> = topo
+            .edges()
+            .iter()
+            .map(|&[a, b]| (a * 7 + b) % 5 == 0)
+            .collect();
+        let h = crate::mesh::mean_edge_length(&m);
+        let start: Vec<f64> = m
+            .positions()
+            .iter()
+            .enumerate()
+            .map(|(i, p)| p.x * p.y + (p.z * 9.0).sin() + if i % 2 == 0 { 0.1 } else { -0.1 })
+            .collect();
+        let run = |solver: LinearSolver| {
+            let w = cotan_weights(&m, m.positions());
+            let mass = lumped_mass(&m, m.positions());
+            let fields = [None, Some(flips.as_slice())];
+            let op = DiffusionOperator::new(&m, w, mass, 2.0 * h * h, &fields, solver).unwrap();
+            let (mut a, mut b) = (start.clone(), start.clone());
+            for _ in 0..4 {
+                op.step(&mut [&mut a, &mut b]).unwrap();
+            }
+            (a, b)
+        };
+        let [jacobi, gauss_seidel, exact] = solvers().map(run);
+        let scale = start.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+        for cg in [&jacobi, &gauss_seidel] {
+            for (x, y) in [(&cg.0, &exact.0), (&cg.1, &exact.1)] {
+                let worst = x
+                    .iter()
+                    .zip(y)
+                    .fold(0.0f64, |s, (a, b)| s.max((a - b).abs()));
+                assert!(worst < 1e-10 * scale, "max difference {worst:e}");
+            }
+            // The signs matter: the two fields differ.
+            assert!(cg.0.iter().zip(&cg.1).any(|(a, b)| (a - b).abs() > 1e-3));
+        }
     }
 }

@@ -5,7 +5,9 @@
 //! Each step solves `(M + t L) X' = M X` for the three coordinates. Two flows:
 //! - [`Flow::MeanCurvature`]: cotan weights recomputed from the current positions every step
 //!   (curvature flow; little tangential drift on irregular meshes);
-//! - [`Flow::Laplacian`]: cotan weights of the input, factorised once (faster).
+//! - [`Flow::Laplacian`]: cotan weights of the input, kept for every step (faster).
+//!
+//! The three coordinates are solved together by the solver of [`SurfaceSmoothing::solver`].
 //!
 //! Implicit smoothing shrinks a closed surface; with `preserve_volume` the result is scaled
 //! about its centroid back to the enclosed volume of the input (Desbrun et al., sec. 5.3).
@@ -14,7 +16,7 @@
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3, mean_edge_length};
 
-use super::{DiffusionOperator, DiffusionPattern, cotan_weights, lumped_mass};
+use super::{DiffusionOperator, LinearSolver, cotan_weights, lumped_mass};
 
 /// Which flow [`smooth_surface`] integrates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -37,6 +39,8 @@ pub struct SurfaceSmoothing {
     pub flow: Flow,
     /// Rescale to the input's volume after smoothing a closed mesh. Default: true.
     pub preserve_volume: bool,
+    /// The linear solver of the implicit steps. Default: [`LinearSolver::DEFAULT`].
+    pub solver: LinearSolver,
 }
 
 impl Default for SurfaceSmoothing {
@@ -46,6 +50,7 @@ impl Default for SurfaceSmoothing {
             time_step: 0.5,
             flow: Flow::MeanCurvature,
             preserve_volume: true,
+            solver: LinearSolver::DEFAULT,
         }
     }
 }
@@ -54,7 +59,7 @@ impl Default for SurfaceSmoothing {
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for a non-finite or negative step; [`Error::Solver`] when a
-/// factorisation fails.
+/// factorisation fails or the iterative solver does not converge.
 pub fn smooth_surface(mesh: &TriMesh, options: &SurfaceSmoothing) -> Result<TriMesh> {
     if !(options.time_step.is_finite() && options.time_step >= 0.0) {
         return Err(Error::InvalidInput(format!(
@@ -68,30 +73,45 @@ pub fn smooth_surface(mesh: &TriMesh, options: &SurfaceSmoothing) -> Result<TriM
     let n = mesh.num_vertices();
     let h = mean_edge_length(mesh);
     let time = options.time_step * h * h;
-    let pattern = DiffusionPattern::new(mesh)?;
     let volume_before = enclosed_volume(mesh, mesh.positions());
-    let mut positions = mesh.positions().to_vec();
-    let mut operator = None;
+    let mut xyz: [Vec<f64>; 3] =
+        std::array::from_fn(|k| mesh.positions().iter().map(|p| p[k]).collect());
+    let mut operator: Option<DiffusionOperator<'_>> = None;
     for _ in 0..options.steps {
-        if operator.is_none() || options.flow == Flow::MeanCurvature {
-            let weights = cotan_weights(mesh, &positions);
-            let mass = lumped_mass(mesh, &positions);
-            operator = Some(DiffusionOperator::new(
-                &pattern, &weights, None, &mass, time,
-            )?);
-        }
-        if let Some(op) = &operator {
+        let positions = || -> Vec<Vec3> {
+            (0..n)
+                .map(|i| Vec3::new(xyz[0][i], xyz[1][i], xyz[2][i]))
+                .collect()
+        };
+        match &mut operator {
+            None => {
+                let p = positions();
+                operator = Some(DiffusionOperator::new(
+                    mesh,
+                    cotan_weights(mesh, &p),
+                    lumped_mass(mesh, &p),
+                    time,
+                    &[None, None, None],
+                    options.solver,
+                )?);
+            }
             // The mass changes with the positions in curvature flow; the operator holds the
             // mass of the step it was built for, as the implicit scheme requires.
-            let mut xyz: Vec<f64> = (0..3)
-                .flat_map(|k| positions.iter().map(move |p| p[k]))
-                .collect();
-            op.step(&mut xyz);
-            for (i, p) in positions.iter_mut().enumerate() {
-                *p = Vec3::new(xyz[i], xyz[n + i], xyz[2 * n + i]);
+            Some(op) if options.flow == Flow::MeanCurvature => {
+                let p = positions();
+                op.update(cotan_weights(mesh, &p), lumped_mass(mesh, &p), time)?;
             }
+            Some(_) => {}
+        }
+        if let Some(op) = &operator {
+            let [x, y, z] = &mut xyz;
+            op.step(&mut [x.as_mut_slice(), y, z])?;
         }
     }
+    let mut positions: Vec<Vec3> = (0..n)
+        .map(|i| Vec3::new(xyz[0][i], xyz[1][i], xyz[2][i]))
+        .collect();
+    drop(xyz);
     let closed = mesh.info().closed;
     if options.preserve_volume && closed && volume_before.abs() > 0.0 {
         let volume_after = enclosed_volume(mesh, &positions);
@@ -121,6 +141,7 @@ fn enclosed_volume(mesh: &TriMesh, positions: &[Vec3]) -> f64 {
 mod tests {
     use super::*;
     use crate::shapes;
+    use crate::smoothing::ConjugateGradientOptions;
 
     /// A sphere with deterministic radial noise.
     fn noisy_sphere() -> TriMesh {
@@ -157,6 +178,28 @@ mod tests {
             let v0 = enclosed_volume(&noisy, noisy.positions());
             let v1 = enclosed_volume(&smooth, smooth.positions());
             assert!((v0 - v1).abs() < 1e-9 * v0.abs());
+        }
+    }
+
+    #[test]
+    fn solvers_agree() {
+        let noisy = noisy_sphere();
+        for flow in [Flow::MeanCurvature, Flow::Laplacian] {
+            let run = |solver| {
+                let opts = SurfaceSmoothing {
+                    steps: 3,
+                    flow,
+                    solver,
+                    ..Default::default()
+                };
+                smooth_surface(&noisy, &opts).unwrap()
+            };
+            let tight = ConjugateGradientOptions::DEFAULT.with_tolerance(1e-12);
+            let cg = run(LinearSolver::ConjugateGradient(tight));
+            let exact = run(LinearSolver::Cholesky);
+            for (a, b) in cg.positions().iter().zip(exact.positions()) {
+                assert!((a - b).norm() < 1e-10, "{flow:?}: {a} vs {b}");
+            }
         }
     }
 

@@ -82,6 +82,8 @@ pub fn polyline_segments(points: &[Vec3], closed: bool) -> Vec<(Vec3, Vec3)> {
         n.saturating_sub(1)
     };
     (0..m).map(|i| (points[i], points[(i + 1) % n])).collect()
+}
+
 /// Distance from `p` to the nearest of `lines` (closed lines include their closing segment).
 pub fn distance_to_lines(p: Vec3, lines: &FeatureLines) -> f64 {
     let mut best = f64::INFINITY;
