@@ -25,6 +25,7 @@ fn ybs() -> ExtractOptions {
 }
 
 /// YBS as published: no extremality smoothing (the default smooths, see `extract`'s docs).
+/// The automatic threshold stays on (set `auto_threshold = false` for a fixed T).
 fn ybs_as_published(rings: usize) -> ExtractOptions {
     let mut options = ybs();
     options.smoothing.steps = 0;
@@ -102,6 +103,7 @@ fn raising_t_removes_the_lines_on_spherical_and_cylindrical_parts_but_keeps_the_
     let with_threshold = |threshold: f64| {
         let mut options = ybs_as_published(3);
         options.filter.threshold = threshold;
+        options.auto_threshold = false;
         extract(&mesh, &options).unwrap().lines
     };
     // Without a threshold, spurious lines cover the caps and the side (measured: 27 lines,
