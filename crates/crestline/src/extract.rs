@@ -113,12 +113,12 @@ pub struct ExtractOptions {
     /// false for HPW.
     ///
     /// Why (measured on the shared meshes, table in BENCHMARKS.md): YBS's fixed T ≥ 1 keeps
-    /// hundreds of weak lines on scanned meshes (igea 1,733 lines, 77 diagonals long) and a
-    /// few on fandisk's flat faces; the knee keeps the salient ones (igea 275, 28 diagonals;
-    /// fandisk's creases all kept, the flat-face lines gone) and changes nothing where the
-    /// strengths have no knee (beetle, teapot, spheres, tori). HPW's extremality smoothing
-    /// already leaves few weak lines: the knee changes little (igea 329 → 320) or drops
-    /// genuine ones (fandisk 13 → 5, the bunny's eye line), so HPW keeps its fixed threshold.
+    /// hundreds of weak lines on scanned meshes (igea 576 lines, 46 diagonals long) and a
+    /// few on fandisk's flat faces; the knee keeps the salient ones (igea 137, 22 diagonals;
+    /// fandisk's creases all kept) and keeps spheres and tori empty. For HPW the knee cleans
+    /// scans as well (igea 659 → 206 lines) but on CAD meshes it drops crease pieces (fandisk:
+    /// T = 5.55, crease coverage 95.9% → 89.5%), so HPW keeps its fixed threshold; use `auto`
+    /// for scans.
     pub auto_threshold: bool,
     /// The knee search. Default: [`KneeSearch::default`] (the paper's) for Saliency,
     /// [`KneeSearch::for_strengths`] for HPW and YBS.
