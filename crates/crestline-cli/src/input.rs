@@ -37,6 +37,33 @@ impl From<FormatArg> for Format {
     }
 }
 
+/// `--keep-orientation`, shared by the commands that estimate curvature.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct OrientArgs {
+    /// Keep the winding of the triangles as it is. By default closed components whose
+    /// triangles face inward (negative volume) are reversed first, since curvature signs
+    /// follow the normals: facing inward, ridges and valleys swap.
+    #[arg(long)]
+    pub keep_orientation: bool,
+}
+
+/// Reverses the closed components of `mesh` that face inward (unless `args` says to keep
+/// them) and says so on stderr.
+pub fn orient(mesh: TriMesh, name: &str, args: OrientArgs) -> Result<TriMesh> {
+    if args.keep_orientation {
+        return Ok(mesh);
+    }
+    let (mesh, report) = crestline::mesh::orient_outward(mesh)?;
+    if report.inward > 0 {
+        eprintln!(
+            "{name}: {} of {} closed components faced inward ({} triangles); reversed them so that \
+             normals point outward (--keep-orientation to keep them)",
+            report.inward, report.closed, report.inward_faces
+        );
+    }
+    Ok(mesh)
+}
+
 /// Reads `path`, or builds the built-in example when it is `None` (and says so on stderr).
 pub fn load_mesh(path: Option<&PathBuf>, format: Option<FormatArg>) -> Result<(TriMesh, String)> {
     match path {

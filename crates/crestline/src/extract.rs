@@ -33,6 +33,11 @@
 //! equator split around the valence-5 vertices. The price is one sparse factorisation per
 //! family (see `BENCHMARKS.md`); T is measured on the smoothed fields, as for HPW.
 //!
+//! *Orientation:* curvature signs follow the winding of the triangles, so a closed mesh wound
+//! inward gives ridges as valleys and valleys as ridges. [`extract`] takes the mesh as it is;
+//! pass it through [`crate::mesh::orient_outward`] first (the CLI does, unless
+//! `--keep-orientation`).
+//!
 //! **Saliency** (Mao, Wang, Zhou): curvature by the cubic fit, mesh saliency
 //! ([`crate::saliency`]), an automatic threshold on it ([`crate::threshold`]) and the linking
 //! rules ([`crate::lines::link`]).

@@ -12,7 +12,7 @@ use crestline::io::{PlyEncoding, PlyWriter, VertexProperty};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::input::{FormatArg, load_mesh};
+use crate::input::{FormatArg, OrientArgs, load_mesh, orient};
 
 /// The estimator.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -28,6 +28,8 @@ pub enum EstimatorArg {
 pub struct Args {
     /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
     pub mesh: Option<PathBuf>,
+    #[command(flatten)]
+    pub orient: OrientArgs,
     /// Output: a PLY with the mesh and the fields as vertex properties (CSV with `--csv`).
     #[arg(short, long)]
     pub output: PathBuf,
@@ -71,6 +73,7 @@ fn columns(c: &Curvature) -> Vec<(&'static str, Vec<f64>)> {
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
+    let mesh = orient(mesh, &name, args.orient)?;
     let options = CurvatureOptions::default()
         .with_estimator(match args.estimator {
             EstimatorArg::ShapeOperator => Estimator::ShapeOperator,

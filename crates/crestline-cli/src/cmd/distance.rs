@@ -7,13 +7,15 @@ use anyhow::{Result, bail};
 use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::io::{Format, PlyEncoding, PlyWriter, VertexProperty};
 
-use crate::input::{FormatArg, load_lines, load_mesh};
+use crate::input::{FormatArg, OrientArgs, load_lines, load_mesh, orient};
 
 /// Arguments of `crestline distance`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
     pub mesh: Option<PathBuf>,
+    #[command(flatten)]
+    pub orient: OrientArgs,
     /// Read the mesh as this format instead of guessing from the extension.
     #[arg(long, value_enum)]
     pub format: Option<FormatArg>,
@@ -43,6 +45,7 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
+    let mesh = orient(mesh, &name, args.orient)?;
     let lines = load_lines(args.lines.as_ref(), &mesh)?;
     let options = DistanceOptions::default().with_relax_across_triangles(!args.edges_only);
     let distance = feature_distance(&mesh, &lines, &options)?;

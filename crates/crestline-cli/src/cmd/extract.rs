@@ -13,7 +13,7 @@ use crestline::smoothing::surface::SurfaceSmoothing;
 use crestline::{TriMesh, Vec3};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::input::{FormatArg, load_mesh};
+use crate::input::{FormatArg, OrientArgs, load_mesh, orient};
 
 /// Which pipeline runs.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -51,6 +51,8 @@ pub enum StatsFormat {
 pub struct Args {
     /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
     pub mesh: Option<PathBuf>,
+    #[command(flatten)]
+    pub orient: OrientArgs,
     /// Output file for the lines. Default: `<mesh name>-lines.obj` in the current folder.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -130,6 +132,7 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     let clock = Instant::now();
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.input_format)?;
+    let mesh = orient(mesh, &name, args.orient)?;
     let load = clock.elapsed();
     let options = options_from_args(&args, &mesh)?;
     let extraction = run_with_progress(&mesh, &options, args.quiet)?;

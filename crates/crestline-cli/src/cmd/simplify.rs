@@ -7,13 +7,15 @@ use crestline::io::{Format, WriteOptions, write_mesh};
 use crestline::lines::FeatureLines;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
 
-use crate::input::{FormatArg, load_lines, load_mesh};
+use crate::input::{FormatArg, OrientArgs, load_lines, load_mesh, orient};
 
 /// Arguments of `crestline simplify`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
     pub mesh: Option<PathBuf>,
+    #[command(flatten)]
+    pub orient: OrientArgs,
     /// Read the mesh as this format instead of guessing from the extension.
     #[arg(long, value_enum)]
     pub format: Option<FormatArg>,
@@ -59,6 +61,7 @@ pub fn run(args: Args) -> Result<()> {
         options.eps = eps;
     }
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
+    let mesh = orient(mesh, &name, args.orient)?;
     let lines = if options.eta == 0.0 && args.lines.is_none() {
         FeatureLines::default()
     } else {

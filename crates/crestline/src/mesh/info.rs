@@ -27,6 +27,11 @@ pub struct MeshInfo {
     pub non_manifold_vertices: usize,
     /// Connected components (faces sharing a vertex are connected).
     pub components: usize,
+    /// Closed, consistently oriented components whose triangles face inward (negative
+    /// volume; see [`super::orient_outward`]).
+    pub inward_components: usize,
+    /// Closed components whose triangles are not consistently oriented.
+    pub inconsistent_components: usize,
     /// V - E + F over referenced vertices.
     pub euler_characteristic: i64,
     /// No boundary edges and no non-manifold edges.
@@ -55,7 +60,7 @@ impl MeshInfo {
         };
         let boundary_edges = edge_count(EdgeKind::Boundary);
         let non_manifold_edges = edge_count(EdgeKind::NonManifold);
-        let (_, components) = topo.vertex_components(mesh.faces());
+        let (orientation, _) = super::orientation(mesh);
         let bbox = mesh.bounding_box();
         let euler = (mesh.num_vertices() - unreferenced) as i64 - topo.num_edges() as i64
             + mesh.num_faces() as i64;
@@ -69,7 +74,9 @@ impl MeshInfo {
             boundary_loops: topo.boundary_loops(mesh.faces()),
             non_manifold_edges,
             non_manifold_vertices: count(VertexKind::NonManifold),
-            components,
+            components: orientation.components,
+            inward_components: orientation.inward,
+            inconsistent_components: orientation.inconsistent,
             euler_characteristic: euler,
             closed: boundary_edges == 0 && non_manifold_edges == 0 && mesh.num_faces() > 0,
             bbox_min: bbox.min,
@@ -96,6 +103,16 @@ impl std::fmt::Display for MeshInfo {
         writeln!(f, "non-manifold edges     {}", self.non_manifold_edges)?;
         writeln!(f, "non-manifold vertices  {}", self.non_manifold_vertices)?;
         writeln!(f, "components             {}", self.components)?;
+        writeln!(
+            f,
+            "facing inward          {} components",
+            self.inward_components
+        )?;
+        writeln!(
+            f,
+            "inconsistent winding   {} components",
+            self.inconsistent_components
+        )?;
         writeln!(f, "euler characteristic   {}", self.euler_characteristic)?;
         writeln!(
             f,

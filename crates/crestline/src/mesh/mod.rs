@@ -13,6 +13,7 @@
 
 mod geometry;
 mod info;
+mod orient;
 mod subdivide;
 mod topology;
 
@@ -21,6 +22,7 @@ pub use geometry::{
     vertex_normals_max,
 };
 pub use info::MeshInfo;
+pub use orient::{Orientation, orient_outward, orientation, signed_volume};
 pub use subdivide::{SubdivideOptions, loop_subdivide};
 pub use topology::{EdgeKind, Topology, VertexKind};
 pub(crate) use topology::{ROW_BLOCK, split_rows};
@@ -123,6 +125,11 @@ impl TriMesh {
             topology: self.topology.clone(),
             degenerate_faces: self.degenerate_faces,
         })
+    }
+
+    /// The positions and the (non-degenerate) triangles, dropping the connectivity.
+    pub fn into_parts(self) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        (self.positions, self.faces)
     }
 
     /// Vertex positions, one per vertex (including unreferenced ones).

@@ -1,0 +1,67 @@
+//! Meshes wound inward: `crestline extract` reverses closed components that face inward, so
+//! that an ellipsoid's crest line comes out as a ridge whichever way its file is wound.
+
+// Test code: stopping loudly on the first surprise is the point.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::process::Command;
+
+use crestline::shapes;
+
+/// Writes the ellipsoid x²/9 + y²/4 + z² = 1 as an OFF file with every triangle reversed.
+fn write_inward_ellipsoid(path: &Path) {
+    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
+    let mut off = format!("OFF\n{} {} 0\n", mesh.num_vertices(), mesh.num_faces());
+    for p in mesh.positions() {
+        writeln!(off, "{} {} {}", p.x, p.y, p.z).unwrap();
+    }
+    for [a, b, c] in mesh.faces() {
+        writeln!(off, "3 {a} {c} {b}").unwrap();
+    }
+    std::fs::write(path, off).unwrap();
+}
+
+/// Runs `crestline extract` with `extra` arguments; returns (ridges, valleys, stderr).
+fn extract(mesh: &Path, extra: &[&str]) -> (u64, u64, String) {
+    let dir = mesh.parent().unwrap();
+    let output = dir.join("lines.obj");
+    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args(["extract", mesh.to_str().unwrap(), "-o"])
+        .arg(&output)
+        .args(["--stats=json", "-q"])
+        .args(extra)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{stderr}");
+    let stats: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    (
+        stats["ridges"].as_u64().unwrap(),
+        stats["valleys"].as_u64().unwrap(),
+        stderr,
+    )
+}
+
+#[test]
+fn an_ellipsoid_wound_inward_still_has_a_ridge_not_a_valley() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("inward.off");
+    write_inward_ellipsoid(&path);
+    let (ridges, valleys, stderr) = extract(&path, &[]);
+    assert!(
+        ridges >= 1 && valleys == 0,
+        "{ridges} ridges, {valleys} valleys"
+    );
+    assert!(
+        stderr.contains("faced inward"),
+        "no note on stderr: {stderr}"
+    );
+    // Kept as wound, the normals point inward and the crest line is a valley.
+    let (ridges, valleys, _) = extract(&path, &["--keep-orientation"]);
+    assert!(
+        ridges == 0 && valleys >= 1,
+        "{ridges} ridges, {valleys} valleys"
+    );
+}

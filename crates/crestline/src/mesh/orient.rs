@@ -1,0 +1,202 @@
+//! Outward orientation of closed components.
+//!
+//! Every curvature sign in the crate follows the winding of the triangles (see the module
+//! docs of [`crate::mesh`]): on a closed mesh wound clockwise seen from outside the normals
+//! point inward, every principal curvature changes sign and ridges come out as valleys.
+//! Such files are common (the shared `horse.ply` is one). [`orientation`] finds the closed,
+//! consistently oriented components whose signed volume is negative; [`orient_outward`]
+//! reverses their triangles.
+//!
+//! A component is *closed* when every edge of it has exactly two faces, and *consistent* when
+//! the two faces of every edge run through it in opposite directions. Only closed,
+//! consistent components have an inside and an outside to decide by volume; open ones (a
+//! height field, a scan with holes) and inconsistent ones are left as they are and counted.
+//! Components are the connected parts over shared vertices, as in [`super::MeshInfo`].
+
+use crate::error::Result;
+
+use super::{TriMesh, Vec3};
+
+/// What [`orientation`] found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Orientation {
+    /// Connected components (over shared vertices).
+    pub components: usize,
+    /// Closed, consistently oriented components.
+    pub closed: usize,
+    /// Of those, the ones with negative signed volume (facing inward).
+    pub inward: usize,
+    /// Triangles in the inward components.
+    pub inward_faces: usize,
+    /// Components that are closed but not consistently oriented (left as they are).
+    pub inconsistent: usize,
+}
+
+/// Classifies the components of `mesh`; returns the report and, per face, whether it lies in
+/// an inward-facing closed component.
+pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
+    let topo = mesh.topology();
+    let faces = mesh.faces();
+    let (vertex_component, count) = topo.vertex_components(faces);
+    let component = |f: usize| vertex_component[faces[f][0] as usize] as usize;
+    // Per component: not closed, not consistent.
+    let mut open = vec![false; count];
+    let mut inconsistent = vec![false; count];
+    for e in 0..topo.num_edges() as u32 {
+        let edge_faces = topo.edge_faces(e);
+        let Some(&first) = edge_faces.first() else {
+            continue;
+        };
+        let c = component(first as usize);
+        match *edge_faces {
+            [f, g] => {
+                if runs_forward(mesh, f, e) == runs_forward(mesh, g, e) {
+                    inconsistent[c] = true;
+                }
+            }
+            _ => open[c] = true,
+        }
+    }
+    // Signed volumes about the bounding-box centre (for fewer cancellations).
+    let centre = mesh.bounding_box().center();
+    let mut volume = vec![0.0f64; count];
+    for (f, t) in faces.iter().enumerate() {
+        let [a, b, c] = t.map(|v| mesh.position(v) - centre);
+        volume[component(f)] += a.dot(&b.cross(&c)) / 6.0;
+    }
+    let mut report = Orientation {
+        components: count,
+        ..Default::default()
+    };
+    let mut flip = vec![false; count];
+    for c in 0..count {
+        if open[c] {
+            continue;
+        }
+        if inconsistent[c] {
+            report.inconsistent += 1;
+            continue;
+        }
+        report.closed += 1;
+        if volume[c] < 0.0 {
+            report.inward += 1;
+            flip[c] = true;
+        }
+    }
+    let per_face: Vec<bool> = (0..faces.len()).map(|f| flip[component(f)]).collect();
+    report.inward_faces = per_face.iter().filter(|&&x| x).count();
+    (report, per_face)
+}
+
+/// Whether face `f` runs through edge `e` from its smaller to its larger vertex.
+fn runs_forward(mesh: &TriMesh, f: u32, e: u32) -> bool {
+    let slots = mesh.topology().face_edges(f);
+    let s = slots.iter().position(|&x| x == e).unwrap_or(0);
+    mesh.faces()[f as usize][s] == mesh.topology().edge(e)[0]
+}
+
+/// Reverses the triangles of the closed components that face inward (see the module docs),
+/// so that normals point outward. Returns the mesh unchanged (not rebuilt) when nothing faces
+/// inward, and the report either way.
+///
+/// # Errors
+/// Only what [`TriMesh::new`] reports, which cannot happen for a mesh it already accepted.
+pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
+    let (report, flip) = orientation(&mesh);
+    if report.inward == 0 {
+        return Ok((mesh, report));
+    }
+    let (positions, mut faces) = mesh.into_parts();
+    for (t, &flip) in faces.iter_mut().zip(&flip) {
+        if flip {
+            t.swap(1, 2);
+        }
+    }
+    Ok((TriMesh::new(positions, faces)?, report))
+}
+
+/// Signed volume enclosed by `mesh` (positive when a closed mesh faces outward). Meaningful
+/// for closed, consistently oriented meshes only.
+pub fn signed_volume(mesh: &TriMesh) -> f64 {
+    let centre = mesh.bounding_box().center();
+    mesh.faces()
+        .iter()
+        .map(|t| {
+            let [a, b, c]: [Vec3; 3] = t.map(|v| mesh.position(v) - centre);
+            a.dot(&b.cross(&c)) / 6.0
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes;
+
+    fn flipped(mesh: &TriMesh) -> TriMesh {
+        let faces = mesh.faces().iter().map(|t| [t[0], t[2], t[1]]).collect();
+        TriMesh::new(mesh.positions().to_vec(), faces).unwrap()
+    }
+
+    #[test]
+    fn a_sphere_wound_inward_is_flipped_and_one_wound_outward_is_not() {
+        let sphere = shapes::icosphere(2.0, 3);
+        let exact = 4.0 / 3.0 * std::f64::consts::PI * 8.0;
+        // The icosphere's volume is a little below the sphere's.
+        let v = signed_volume(&sphere);
+        assert!(v > 0.95 * exact && v < exact, "volume {v}");
+        let (same, report) = orient_outward(sphere.clone()).unwrap();
+        assert_eq!(report.inward, 0);
+        assert_eq!(report.closed, 1);
+        assert_eq!(same.faces(), sphere.faces());
+
+        let inward = flipped(&sphere);
+        assert!((signed_volume(&inward) + v).abs() < 1e-9 * v);
+        let (fixed, report) = orient_outward(inward).unwrap();
+        assert_eq!(report.inward, 1);
+        assert_eq!(report.inward_faces, sphere.num_faces());
+        assert!((signed_volume(&fixed) - v).abs() < 1e-9 * v);
+    }
+
+    #[test]
+    fn only_the_inward_component_is_flipped() {
+        // Two disjoint spheres, the second wound inward.
+        let a = shapes::icosphere(1.0, 2);
+        let b = flipped(&shapes::icosphere(1.0, 2));
+        let n = a.num_vertices() as u32;
+        let mut positions = a.positions().to_vec();
+        positions.extend(b.positions().iter().map(|p| p + Vec3::new(5.0, 0.0, 0.0)));
+        let mut faces = a.faces().to_vec();
+        faces.extend(b.faces().iter().map(|t| t.map(|v| v + n)));
+        let two = TriMesh::new(positions, faces).unwrap();
+        let (report, per_face) = orientation(&two);
+        assert_eq!(report.components, 2);
+        assert_eq!(report.closed, 2);
+        assert_eq!(report.inward, 1);
+        assert!(per_face[..a.num_faces()].iter().all(|&x| !x));
+        assert!(per_face[a.num_faces()..].iter().all(|&x| x));
+        let (fixed, _) = orient_outward(two).unwrap();
+        let (after, _) = orientation(&fixed);
+        assert_eq!(after.inward, 0);
+    }
+
+    #[test]
+    fn open_and_inconsistent_components_are_left_alone() {
+        // An open height field wound downward: no inside, nothing to decide.
+        let field =
+            shapes::height_field(|x, y| 0.1 * (x * x + y * y), [-1.0, 1.0], [-1.0, 1.0], 8, 8);
+        let down = flipped(&field);
+        let (report, _) = orientation(&down);
+        assert_eq!((report.components, report.closed, report.inward), (1, 0, 0));
+        // A sphere with one triangle reversed: closed but inconsistent.
+        let sphere = shapes::icosphere(1.0, 2);
+        let mut faces = sphere.faces().to_vec();
+        faces[0].swap(1, 2);
+        let bad = TriMesh::new(sphere.positions().to_vec(), faces).unwrap();
+        let (report, _) = orientation(&bad);
+        assert_eq!(
+            (report.closed, report.inconsistent, report.inward),
+            (0, 1, 0)
+        );
+    }
+}
