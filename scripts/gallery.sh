@@ -19,7 +19,7 @@ done <<'LIST'
 fandisk-hpw   fandisk.obj         hpw  30,20
 fandisk-ybs   fandisk.obj         ybs  30,20   --rings=1
 bunny-hpw     stanford-bunny.obj  hpw  30,20
-igea-hpw      igea.ply            hpw  20,10
+igea-hpw      igea.ply            hpw  20,10   --threshold=auto
 rocker-ybs    rocker-arm.obj      ybs  30,30   --rings=2
 LIST
 echo "gallery written to $out"
