@@ -20,7 +20,7 @@
 //! smooth them (`smoothing.steps = 0`, CLI `--smooth-steps 0`, is YBS as published). The
 //! cubic fit's `e` has errors that grow like 1/h where the mesh is irregular (the Max normals
 //! of the pre-smoothed mesh are only O(h) accurate there and the fit turns a normal error δn
-//! into δn/h² in the cubic terms; see [`crate::curvature::cubic_fit`]). On the
+//! into δn/h² in the cubic terms; see [`crate::curvature::cubic_fit`](mod@crate::curvature::cubic_fit)). On the
 //! icosphere-based ellipsoid x²/9 + y²/4 + z² = 1 at 20K faces the 1-ring fit gets the sign of
 //! e_max wrong on rows of vertices along the icosahedron's seams (72 vertices with |e| > 1;
 //! none with exact normals), and no tracing rule can recover the crest line from that: the

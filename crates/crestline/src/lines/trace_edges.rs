@@ -22,7 +22,7 @@
 //! orientation is per edge, which is what makes YBS's gap jumping ([`super::gap`]) necessary.
 //!
 //! **Limits.** Tracing cannot repair wrong extremalities. The cubic fit's `e` has errors that
-//! grow like 1/h where the mesh is irregular (see [`crate::curvature::cubic_fit`]); on the
+//! grow like 1/h where the mesh is irregular (see [`crate::curvature::cubic_fit`](mod@crate::curvature::cubic_fit)); on the
 //! icosphere-based ellipsoid its 1-ring `e` has the wrong sign on whole rows of vertices along
 //! the icosahedron's seams (72 vertices with |e| > 1 at 20K faces), which cuts the equator
 //! into pieces and bends them along the seams. That is why the YBS pipeline smooths the
