@@ -23,7 +23,6 @@ pub use geometry::{
 pub use info::MeshInfo;
 pub use subdivide::{SubdivideOptions, loop_subdivide};
 pub use topology::{EdgeKind, Topology, VertexKind};
-pub(crate) use topology::{ROW_BLOCK, split_rows};
 
 use crate::error::{Error, Result};
 

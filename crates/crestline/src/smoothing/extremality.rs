@@ -34,8 +34,6 @@ use crate::curvature::Curvature;
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3, mean_edge_length};
 
-use rayon::prelude::*;
-
 use super::{DiffusionOperator, LinearSolver, cotan_weights, lumped_mass};
 
 /// Options of [`smooth_extremalities`].
