@@ -64,9 +64,8 @@ fn mesh_bytes(mesh: &TriMesh) -> usize {
     let edges = 8 * e;
     // One or two faces per edge in place (non-manifold edges' side table not counted).
     let edge_faces = 8 * e;
-    let face_edges = 12 * f;
     let vertex_kinds = v;
-    positions + faces + vertex_faces + vertex_edges + edges + edge_faces + face_edges + vertex_kinds
+    positions + faces + vertex_faces + vertex_edges + edges + edge_faces + vertex_kinds
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

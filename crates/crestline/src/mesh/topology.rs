@@ -66,7 +66,9 @@ pub struct Topology {
     /// after it: 8 bytes per edge where compressed rows took 12 (and 4 more per face).
     edge_faces: Vec<[u32; 2]>,
     many_faces: Vec<u32>,
-    face_edges: Vec<[u32; 3]>,
+    /// The triangles (the mesh's faces are these). Face → edge is looked up in the upper
+    /// part of a vertex's edges rather than stored: 12 bytes per face less.
+    faces: Vec<[u32; 3]>,
     vertex_kinds: Vec<VertexKind>,
 }
 
@@ -76,6 +78,13 @@ impl Topology {
     /// Indices must be in range and faces must not repeat an index (as [`super::TriMesh::new`]
     /// guarantees).
     pub fn build(num_vertices: usize, faces: &[[u32; 3]]) -> Self {
+        Self::from_faces(num_vertices, faces.to_vec())
+    }
+
+    /// [`Topology::build`] taking the faces over (the topology keeps them: see
+    /// [`Topology::faces`]).
+    pub fn from_faces(num_vertices: usize, face_list: Vec<[u32; 3]>) -> Self {
+        let faces = &face_list[..];
         let (vertex_face_offsets, vertex_faces) = compressed_rows(
             num_vertices,
             faces
@@ -158,19 +167,6 @@ impl Topology {
             }
         }
 
-        // Slot s of a face is the edge from corner s to corner s + 1.
-        let face_edges: Vec<[u32; 3]> = faces
-            .par_iter()
-            .map(|t| {
-                [0, 1, 2].map(|s| {
-                    let (a, b) = (t[s].min(t[(s + 1) % 3]), t[s].max(t[(s + 1) % 3]));
-                    let (first, last) = (edge_start[a as usize], edge_start[a as usize + 1]);
-                    edges[first as usize..last as usize]
-                        .binary_search_by_key(&b, |&[_, w]| w)
-                        .map_or(NONE, |i| first + i as u32)
-                })
-            })
-            .collect();
         drop(edge_start);
 
         let (vertex_edge_offsets, vertex_edges) = compressed_rows(
@@ -189,12 +185,13 @@ impl Topology {
             edges,
             edge_faces,
             many_faces,
-            face_edges,
+            faces: Vec::new(),
             vertex_kinds: Vec::new(),
         };
+        topology.faces = face_list;
         topology.vertex_kinds = (0..num_vertices as u32)
             .into_par_iter()
-            .map(|v| topology.classify_vertex(v, faces))
+            .map(|v| topology.classify_vertex(v, &topology.faces))
             .collect();
         topology
     }
@@ -247,13 +244,36 @@ impl Topology {
     /// The edges of face `f`: slot `s` joins corner `s` to corner `s + 1`.
     #[inline]
     pub fn face_edges(&self, f: u32) -> [u32; 3] {
-        self.face_edges[f as usize]
+        let t = self.faces[f as usize];
+        [0, 1, 2].map(|s| self.edge_between(t[s], t[(s + 1) % 3]).unwrap_or(NONE))
+    }
+
+    /// The edge joining `a` and `b`, if there is one: a scan of the edges from the smaller
+    /// to its larger neighbours (the last entries of its edge list, consecutive ids).
+    #[inline]
+    pub fn edge_between(&self, a: u32, b: u32) -> Option<u32> {
+        let (low, high) = (a.min(b), a.max(b));
+        for &e in self.vertex_edges(low).iter().rev() {
+            let [x, y] = self.edges[e as usize];
+            if x != low || y < high {
+                return None;
+            }
+            if y == high {
+                return Some(e);
+            }
+        }
+        None
+    }
+
+    /// The triangles the connectivity was built from.
+    pub fn faces(&self) -> &[[u32; 3]] {
+        &self.faces
     }
 
     /// The face across slot `s` of face `f`, when that edge has exactly two faces.
     #[inline]
     pub fn face_across(&self, f: u32, s: usize) -> Option<u32> {
-        match *self.edge_faces(self.face_edges[f as usize][s]) {
+        match *self.edge_faces(self.face_edges(f)[s]) {
             [a, b] => Some(if a == f { b } else { a }),
             _ => None,
         }
@@ -339,7 +359,7 @@ impl Topology {
         };
         let edge_to = |f: u32, u: u32| {
             let t = faces[f as usize];
-            let fe = self.face_edges[f as usize];
+            let fe = self.face_edges(f);
             (0..3)
                 .find(|&s| {
                     let (a, b) = (t[s], t[(s + 1) % 3]);
@@ -456,8 +476,10 @@ impl Topology {
     fn edges_at(&self, v: u32, f: u32, faces: &[[u32; 3]]) -> [u32; 2] {
         let t = faces[f as usize];
         let c = t.iter().position(|&x| x == v).unwrap_or(0);
-        let fe = self.face_edges[f as usize];
-        [fe[c], fe[(c + 2) % 3]]
+        [
+            self.edge_between(t[c], t[(c + 1) % 3]).unwrap_or(NONE),
+            self.edge_between(t[(c + 2) % 3], t[c]).unwrap_or(NONE),
+        ]
     }
 
     /// Walks from `f0` across `first` and on around `v` (manifold edges only); returns the
