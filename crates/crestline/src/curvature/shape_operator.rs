@@ -236,10 +236,16 @@ pub(crate) fn face_normal_and_area(mesh: &TriMesh, f: usize) -> (Vec3, f64) {
 
 /// Unit normals and areas of all faces (see [`face_normal_and_area`]).
 pub(crate) fn face_normals_and_areas(mesh: &TriMesh) -> (Vec<Vec3>, Vec<f64>) {
-    (0..mesh.num_faces())
-        .into_par_iter()
-        .map(|f| face_normal_and_area(mesh, f))
-        .unzip()
+    // Filled in place: rayon's `unzip` would gather pieces in the worker threads' heaps
+    // first, which the allocator then keeps.
+    let mut normals = vec![Vec3::zeros(); mesh.num_faces()];
+    let mut areas = vec![0.0; mesh.num_faces()];
+    normals
+        .par_iter_mut()
+        .zip(areas.par_iter_mut())
+        .enumerate()
+        .for_each(|(f, (normal, area))| (*normal, *area) = face_normal_and_area(mesh, f));
+    (normals, areas)
 }
 
 /// The edge operator of mesh edge `e`, oriented by its first face, or `None` for a boundary,
