@@ -12,29 +12,17 @@
 //! `../shared/data/meshes` (skipped with a note when they cannot be read), and a generated
 //! torus of 100,000 vertices.
 
-use std::path::PathBuf;
+mod common;
 
 use crestline::TriMesh;
 use crestline::curvature::{ShapeOperatorOptions, shape_operator};
-use crestline::shapes::{self, GridPattern};
 use crestline::smoothing::LinearSolver;
 use crestline::smoothing::conjugate_gradient::{ConjugateGradientOptions, Preconditioner};
 use crestline::smoothing::extremality::{ExtremalitySmoothing, smooth_extremalities};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 
 fn meshes() -> Vec<(String, TriMesh)> {
-    let mut out = vec![(
-        "torus-100k".to_string(),
-        shapes::torus_with(3.0, 1.0, 400, 250, GridPattern::Uniform),
-    )];
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
-    for name in ["stanford-bunny.obj", "igea.ply"] {
-        match crestline::io::read_mesh(&dir.join(name), None) {
-            Ok(m) => out.push((name.to_string(), m)),
-            Err(e) => eprintln!("skipping {name}: {e}"),
-        }
-    }
-    out
+    common::torus_and_shared_meshes(&["stanford-bunny.obj", "igea.ply"])
 }
 
 fn bench(c: &mut Criterion) {

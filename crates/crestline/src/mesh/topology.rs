@@ -770,9 +770,12 @@ mod tests {
         assert_eq!(t.vertex_kind(2), VertexKind::Boundary);
     }
 
+    /// Edges, faces per edge and edges per face.
+    type Reference = (Vec<[u32; 2]>, Vec<Vec<u32>>, Vec<[u32; 3]>);
+
     /// The connectivity built the slow, obvious way: all half-edges sorted by (smaller end,
     /// larger end, face).
-    fn reference(n: usize, faces: &[[u32; 3]]) -> (Vec<[u32; 2]>, Vec<Vec<u32>>, Vec<[u32; 3]>) {
+    fn reference(n: usize, faces: &[[u32; 3]]) -> Reference {
         let mut half: Vec<(u32, u32, u32, usize)> = Vec::new();
         for (f, t) in faces.iter().enumerate() {
             for s in 0..3 {
