@@ -8,26 +8,14 @@
 //! and stanford-bunny.obj from `../shared/data/meshes` when the I/O module can read them
 //! (they are skipped with a note otherwise).
 
-use std::path::PathBuf;
+mod common;
 
 use crestline::TriMesh;
 use crestline::curvature::{CubicFitOptions, ShapeOperatorOptions, cubic_fit, shape_operator};
-use crestline::shapes::{self, GridPattern};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 
 fn meshes() -> Vec<(String, TriMesh)> {
-    let mut out = vec![(
-        "torus-100k".to_string(),
-        shapes::torus_with(3.0, 1.0, 400, 250, GridPattern::Uniform),
-    )];
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
-    for name in ["igea.ply", "stanford-bunny.obj"] {
-        match crestline::io::read_mesh(&dir.join(name), None) {
-            Ok(m) => out.push((name.to_string(), m)),
-            Err(e) => eprintln!("skipping {name}: {e}"),
-        }
-    }
-    out
+    common::torus_and_shared_meshes(&["igea.ply", "stanford-bunny.obj"])
 }
 
 fn bench(c: &mut Criterion) {

@@ -1,6 +1,7 @@
-//! Where time and memory go in `extract`: wall time, resident memory and its high-water mark
-//! (Linux `/proc/self/status`) after reading the mesh and after every stage, plus the bytes
-//! held by the mesh itself. Used for the CGAL comparison in `BENCHMARKS.md`.
+//! Where time and memory go in `extract`: wall time, resident memory after every step, the
+//! peak within the step and the peak so far (Linux `/proc/self/status`; the high-water mark is
+//! reset at the start of each step through `/proc/self/clear_refs`), plus the bytes held by the
+//! mesh itself. Used for the CGAL comparison in `BENCHMARKS.md`.
 //!
 //! ```sh
 //! cargo run --release -p crestline --example stage_memory -- MESH [hpw|ybs|saliency]
@@ -24,16 +25,28 @@ fn memory() -> Option<(u64, u64)> {
     Some((field("VmRSS:")?, field("VmHWM:")?))
 }
 
-fn row(label: &str, seconds: f64, faces: usize) {
+/// Resets the high-water mark to the current resident size (Linux 4.0 and later; ignored
+/// where it is not supported, and the step peak is then the peak so far).
+fn reset_peak() {
+    let _ = std::fs::write("/proc/self/clear_refs", "5");
+}
+
+/// Prints one row; `overall` carries the peak over all steps so far.
+fn row(label: &str, seconds: f64, faces: usize, overall: &mut u64) {
     match memory() {
-        Some((rss, hwm)) => println!(
-            "| {label} | {seconds:.3} | {:.1} | {:.1} | {:.0} |",
-            rss as f64 / 1e6,
-            hwm as f64 / 1e6,
-            hwm as f64 / faces as f64
-        ),
-        None => println!("| {label} | {seconds:.3} | n/a | n/a | n/a |"),
+        Some((rss, hwm)) => {
+            *overall = (*overall).max(hwm);
+            println!(
+                "| {label} | {seconds:.3} | {:.1} | {:.1} | {:.1} | {:.0} |",
+                rss as f64 / 1e6,
+                hwm as f64 / 1e6,
+                *overall as f64 / 1e6,
+                *overall as f64 / faces as f64
+            );
+        }
+        None => println!("| {label} | {seconds:.3} | n/a | n/a | n/a | n/a |"),
     }
+    reset_peak();
 }
 
 /// Bytes held by the mesh's own arrays: positions, faces and the connectivity, counted from
@@ -49,10 +62,10 @@ fn mesh_bytes(mesh: &TriMesh) -> usize {
     let vertex_faces = 4 * (v + 1) + 4 * 3 * f;
     let vertex_edges = 4 * (v + 1) + 4 * 2 * e;
     let edges = 8 * e;
-    let edge_faces = 4 * (e + 1) + 4 * 3 * f;
-    let face_edges = 12 * f;
+    // One or two faces per edge in place (non-manifold edges' side table not counted).
+    let edge_faces = 8 * e;
     let vertex_kinds = v;
-    positions + faces + vertex_faces + vertex_edges + edges + edge_faces + face_edges + vertex_kinds
+    positions + faces + vertex_faces + vertex_edges + edges + edge_faces + vertex_kinds
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -68,8 +81,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(other) => return Err(format!("unknown method {other}").into()),
     };
 
-    println!("| step | seconds | RSS after, MB | peak so far, MB | peak bytes/face |");
-    println!("| --- | ---: | ---: | ---: | ---: |");
+    println!(
+        "| step | seconds | RSS after, MB | peak in step, MB | peak so far, MB | peak bytes/face |"
+    );
+    println!("| --- | ---: | ---: | ---: | ---: | ---: |");
+    let mut overall = 0;
+    reset_peak();
     // Reading is split as `crestline::io::read_mesh` does it: file bytes, parse, TriMesh (the
     // degenerate-face check and the connectivity).
     let start = Instant::now();
@@ -79,21 +96,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let data = crestline::io::parse_mesh_bytes(&bytes, Format::resolve(&path, None)?, &path)?;
     let faces = data.faces.len();
     let parse_time = start.elapsed().as_secs_f64();
-    row("read file", read_time, faces);
+    row("read file", read_time, faces, &mut overall);
     drop(bytes);
-    row("parse (file bytes then freed)", parse_time, faces);
+    row(
+        "parse (file bytes then freed)",
+        parse_time,
+        faces,
+        &mut overall,
+    );
     let start = Instant::now();
     let mesh = data.into_mesh(&path)?;
     row(
         "build mesh (connectivity)",
         start.elapsed().as_secs_f64(),
         faces,
+        &mut overall,
     );
 
     let options = ExtractOptions::for_method(method);
     let mut progress = |stage: Stage, done: Option<Duration>| {
         if let Some(t) = done {
-            row(stage.name(), t.as_secs_f64(), faces);
+            row(stage.name(), t.as_secs_f64(), faces, &mut overall);
         }
     };
     let extraction = extract_with_progress(&mesh, &options, &mut progress)?;

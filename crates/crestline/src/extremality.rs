@@ -32,7 +32,7 @@
 use rayon::prelude::*;
 
 use crate::curvature::Curvature;
-use crate::curvature::shape_operator::face_normals_and_areas;
+use crate::curvature::shape_operator::face_normal_and_area;
 use crate::mesh::{TriMesh, Vec3};
 
 /// Area times the gradient of the piecewise-linear interpolation of `(f₀, f₁, f₂)` over a
@@ -44,48 +44,52 @@ fn area_gradient(n: Vec3, p: &[Vec3; 3], f: [f64; 3]) -> Vec3 {
     0.5 * n.cross(&rotated_sum)
 }
 
-/// Extremalities of both families (HPW eq. 4) given unit face normals and face areas.
-pub(crate) fn extremalities_with(
-    mesh: &TriMesh,
-    face_normals: &[Vec3],
-    face_areas: &[f64],
-    curvature: &Curvature,
-) -> (Vec<f64>, Vec<f64>) {
+/// Fills `curvature.e_max` and `curvature.e_min` (HPW eq. 4) from its curvatures and
+/// directions, vertex by vertex in parallel.
+///
+/// Each face's normal, area and gradients are recomputed at each of its three corners rather
+/// than stored (a per-face table would take 80 bytes per face, the largest transient of the
+/// curvature stage); the arithmetic is the same, so are the results.
+pub(crate) fn fill_extremalities(mesh: &TriMesh, curvature: &mut Curvature) {
+    let n = mesh.num_vertices();
     let faces = mesh.faces();
-    let (k_max, k_min) = (&curvature.k_max, &curvature.k_min);
-    let per_face: Vec<[Vec3; 2]> = (0..mesh.num_faces())
-        .into_par_iter()
-        .map(|f| {
-            let t = faces[f].map(|v| v as usize);
-            let p = mesh.triangle(f);
-            let n = face_normals[f];
-            [
-                area_gradient(n, &p, t.map(|v| k_max[v])),
-                area_gradient(n, &p, t.map(|v| k_min[v])),
-            ]
-        })
-        .collect();
     let topo = mesh.topology();
-    (0..mesh.num_vertices() as u32)
-        .into_par_iter()
-        .map(|v| {
+    let Curvature {
+        k_max,
+        k_min,
+        dir_max,
+        dir_min,
+        e_max,
+        e_min,
+        ..
+    } = curvature;
+    e_max.resize(n, 0.0);
+    e_min.resize(n, 0.0);
+    let (k_max, k_min, dir_max, dir_min) = (&*k_max, &*k_min, &*dir_max, &*dir_min);
+    e_max
+        .par_iter_mut()
+        .zip(e_min.par_iter_mut())
+        .enumerate()
+        .for_each(|(v, (e_max, e_min))| {
             let (mut g_max, mut g_min, mut star) = (Vec3::zeros(), Vec3::zeros(), 0.0);
-            for &f in topo.vertex_faces(v) {
-                let [a, b] = per_face[f as usize];
-                g_max += a;
-                g_min += b;
-                star += face_areas[f as usize];
+            for &f in topo.vertex_faces(v as u32) {
+                let f = f as usize;
+                let (normal, area) = face_normal_and_area(mesh, f);
+                let t = faces[f].map(|v| v as usize);
+                let p = mesh.triangle(f);
+                g_max += area_gradient(normal, &p, t.map(|v| k_max[v]));
+                g_min += area_gradient(normal, &p, t.map(|v| k_min[v]));
+                star += area;
             }
-            if star.is_nan() || star <= 0.0 {
-                return (0.0, 0.0);
-            }
-            let (d_max, d_min) = (curvature.dir_max[v as usize], curvature.dir_min[v as usize]);
-            (
-                finite_or_zero(g_max.dot(&d_max) / star),
-                finite_or_zero(g_min.dot(&d_min) / star),
-            )
-        })
-        .unzip()
+            (*e_max, *e_min) = if star.is_nan() || star <= 0.0 {
+                (0.0, 0.0)
+            } else {
+                (
+                    finite_or_zero(g_max.dot(&dir_max[v]) / star),
+                    finite_or_zero(g_min.dot(&dir_min[v]) / star),
+                )
+            };
+        });
 }
 
 /// The discrete extremality of HPW eq. 4 for one family: `k` the per-vertex principal
@@ -93,24 +97,21 @@ pub(crate) fn extremalities_with(
 ///
 /// Vertices with a zero-area star get 0.
 pub fn extremality(mesh: &TriMesh, k: &[f64], dir: &[Vec3]) -> Vec<f64> {
-    let curvature = Curvature {
+    let mut curvature = Curvature {
         k_max: k.to_vec(),
         k_min: k.to_vec(),
         dir_max: dir.to_vec(),
         dir_min: dir.to_vec(),
         ..Default::default()
     };
-    let (normals, areas) = face_normals_and_areas(mesh);
-    extremalities_with(mesh, &normals, &areas, &curvature).0
+    fill_extremalities(mesh, &mut curvature);
+    curvature.e_max
 }
 
 /// Fills `curvature.e_max` and `curvature.e_min` by HPW eq. 4 from its curvatures and
 /// directions (the two families share one pass over the faces).
 pub fn compute_extremalities(mesh: &TriMesh, curvature: &mut Curvature) {
-    let (normals, areas) = face_normals_and_areas(mesh);
-    let (e_max, e_min) = extremalities_with(mesh, &normals, &areas, curvature);
-    curvature.e_max = e_max;
-    curvature.e_min = e_min;
+    fill_extremalities(mesh, curvature);
 }
 
 #[inline]

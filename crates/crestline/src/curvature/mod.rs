@@ -253,6 +253,24 @@ where
     I: Fn() -> T + Sync + Send,
     F: Fn(&mut T, u32) -> VertexEstimate + Sync + Send,
 {
+    collect_estimates_with_normals(vec![Vec3::zeros(); n], init, |scratch, v, _| {
+        estimate(scratch, v)
+    })
+}
+
+/// [`collect_estimates`] for an estimator that already has the vertex normals: `estimate`
+/// gets vertex `v`'s entry of `normals`, whose storage becomes the result's normals (each
+/// entry overwritten by the estimate's normal), so that no second array is allocated.
+pub(crate) fn collect_estimates_with_normals<T, I, F>(
+    normals: Vec<Vec3>,
+    init: I,
+    estimate: F,
+) -> (Curvature, Vec<bool>)
+where
+    I: Fn() -> T + Sync + Send,
+    F: Fn(&mut T, u32, Vec3) -> VertexEstimate + Sync + Send,
+{
+    let n = normals.len();
     let mut c = Curvature {
         k_max: vec![0.0; n],
         k_min: vec![0.0; n],
@@ -260,7 +278,7 @@ where
         dir_min: vec![Vec3::zeros(); n],
         e_max: vec![0.0; n],
         e_min: vec![0.0; n],
-        normals: vec![Vec3::zeros(); n],
+        normals,
         fallback_vertices: 0,
     };
     let mut fallback = vec![false; n];
@@ -279,7 +297,7 @@ where
         .for_each_init(
             init,
             |scratch, (v, (k_max, k_min, dir_max, dir_min, e_max, e_min, normal, fb))| {
-                let est = estimate(scratch, v as u32);
+                let est = estimate(scratch, v as u32, *normal);
                 *k_max = est.k_max;
                 *k_min = est.k_min;
                 *dir_max = est.dir_max;

@@ -70,8 +70,10 @@
 use nalgebra::SymmetricEigen;
 use rayon::prelude::*;
 
-use super::{Curvature, VertexEstimate, collect_estimates, symmetric_eigen_2x2, tangent_frame};
-use crate::extremality::extremalities_with;
+use super::{
+    Curvature, VertexEstimate, collect_estimates_with_normals, symmetric_eigen_2x2, tangent_frame,
+};
+use crate::extremality::fill_extremalities;
 use crate::mesh::{TriMesh, Vec3, VertexKind};
 
 /// A symmetric 3×3 matrix of `f64` (shape operators).
@@ -217,27 +219,40 @@ fn runs_from_to(t: [u32; 3], a: u32, b: u32) -> bool {
     (t[0] == a && t[1] == b) || (t[1] == a && t[2] == b) || (t[2] == a && t[0] == b)
 }
 
-/// Unit normals and areas of all faces from one cross product each (zero normal for a
-/// face made degenerate by [`TriMesh::with_positions`]).
+/// Unit normal and area of face `f` from one cross product (zero normal for a face made
+/// degenerate by [`TriMesh::with_positions`]).
+#[inline]
+pub(crate) fn face_normal_and_area(mesh: &TriMesh, f: usize) -> (Vec3, f64) {
+    let [a, b, c] = mesh.triangle(f);
+    let cross = (b - a).cross(&(c - a));
+    let norm = cross.norm();
+    let normal = if norm > 0.0 {
+        cross / norm
+    } else {
+        Vec3::zeros()
+    };
+    (normal, 0.5 * norm)
+}
+
+/// Unit normals and areas of all faces (see [`face_normal_and_area`]).
 pub(crate) fn face_normals_and_areas(mesh: &TriMesh) -> (Vec<Vec3>, Vec<f64>) {
-    (0..mesh.num_faces())
-        .into_par_iter()
-        .map(|f| {
-            let [a, b, c] = mesh.triangle(f);
-            let cross = (b - a).cross(&(c - a));
-            let norm = cross.norm();
-            let normal = if norm > 0.0 {
-                cross / norm
-            } else {
-                Vec3::zeros()
-            };
-            (normal, 0.5 * norm)
-        })
-        .unzip()
+    // Filled in place: rayon's `unzip` would gather pieces in the worker threads' heaps
+    // first, which the allocator then keeps.
+    let mut normals = vec![Vec3::zeros(); mesh.num_faces()];
+    let mut areas = vec![0.0; mesh.num_faces()];
+    normals
+        .par_iter_mut()
+        .zip(areas.par_iter_mut())
+        .enumerate()
+        .for_each(|(f, (normal, area))| (*normal, *area) = face_normal_and_area(mesh, f));
+    (normals, areas)
 }
 
 /// The edge operator of mesh edge `e`, oriented by its first face, or `None` for a boundary,
 /// non-manifold, folded or degenerate edge.
+///
+/// Computed where it is used (twice per edge) rather than stored: a table of them would take
+/// 56 bytes per edge, more than the mesh itself per face.
 fn mesh_edge_operator(mesh: &TriMesh, face_normals: &[Vec3], e: u32) -> Option<EdgeShapeOperator> {
     let topo = mesh.topology();
     let &[f1, f2] = topo.edge_faces(e) else {
@@ -262,20 +277,6 @@ fn mesh_edge_operator(mesh: &TriMesh, face_normals: &[Vec3], e: u32) -> Option<E
     edge_shape_operator(mesh.position(a), mesh.position(b), n1, n2)
 }
 
-/// The edge operators of all edges; skipped edges get `mean_curvature = 0` (they then add
-/// nothing) and are told apart by a zero `normal`.
-fn all_edge_operators(mesh: &TriMesh, face_normals: &[Vec3]) -> Vec<EdgeShapeOperator> {
-    const SKIPPED: EdgeShapeOperator = EdgeShapeOperator {
-        mean_curvature: 0.0,
-        across: Vec3::new(0.0, 0.0, 0.0),
-        normal: Vec3::new(0.0, 0.0, 0.0),
-    };
-    (0..mesh.topology().num_edges() as u32)
-        .into_par_iter()
-        .map(|e| mesh_edge_operator(mesh, face_normals, e).unwrap_or(SKIPPED))
-        .collect()
-}
-
 /// Area-weighted unit vertex normals from unit face normals and areas (zero when the vertex
 /// has no face or its normals cancel).
 fn area_weighted_normals(mesh: &TriMesh, face_normals: &[Vec3], face_areas: &[f64]) -> Vec<Vec3> {
@@ -298,10 +299,9 @@ fn area_weighted_normals(mesh: &TriMesh, face_normals: &[Vec3], face_areas: &[f6
 /// Divide by `area(star(p)) / 3` for point values.
 pub fn vertex_shape_operators(mesh: &TriMesh, vertex_normals: &[Vec3]) -> Vec<Matrix3> {
     let (normals, _) = face_normals_and_areas(mesh);
-    let edges = all_edge_operators(mesh, &normals);
     (0..mesh.num_vertices() as u32)
         .into_par_iter()
-        .map(|v| integrated_operator(mesh, &edges, vertex_normals[v as usize], v).0)
+        .map(|v| integrated_operator(mesh, &normals, vertex_normals[v as usize], v).0)
         .collect()
 }
 
@@ -309,7 +309,7 @@ pub fn vertex_shape_operators(mesh: &TriMesh, vertex_normals: &[Vec3]) -> Vec<Ma
 #[inline]
 fn integrated_operator(
     mesh: &TriMesh,
-    edges: &[EdgeShapeOperator],
+    face_normals: &[Vec3],
     normal: Vec3,
     v: u32,
 ) -> (Matrix3, usize) {
@@ -318,10 +318,9 @@ fn integrated_operator(
     let (mut xx, mut xy, mut xz, mut yy, mut yz, mut zz) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     let mut used = 0;
     for &e in mesh.topology().vertex_edges(v) {
-        let op = &edges[e as usize];
-        if op.normal == Vec3::zeros() {
+        let Some(op) = mesh_edge_operator(mesh, face_normals, e) else {
             continue;
-        }
+        };
         let weight = 0.5 * normal.dot(&op.normal) * op.mean_curvature;
         let w = op.across * weight;
         let a = op.across;
@@ -341,7 +340,7 @@ fn integrated_operator(
 #[inline]
 fn point_operator(
     mesh: &TriMesh,
-    edges: &[EdgeShapeOperator],
+    face_normals: &[Vec3],
     face_areas: &[f64],
     vertex_normals: &[Vec3],
     v: u32,
@@ -356,7 +355,7 @@ fn point_operator(
     if star.is_nan() || star <= 0.0 || normal == Vec3::zeros() {
         return None;
     }
-    let (s, used) = integrated_operator(mesh, edges, normal, v);
+    let (s, used) = integrated_operator(mesh, face_normals, normal, v);
     (used > 0).then(|| s * (3.0 / star))
 }
 
@@ -412,12 +411,14 @@ pub fn principal_curvatures(
 /// operator (HPW sec. 3) and the discrete extremalities (HPW eq. 4); see the module docs for
 /// the conventions, the boundary treatment and the fallbacks. Runs in parallel.
 pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvature {
+    // Memory: the face arrays live only while the point operators are built; the vertex
+    // normals become the result's normals; the extremalities are computed face by face
+    // without a per-face table (see `fill_extremalities`).
     let (face_normals, face_areas) = face_normals_and_areas(mesh);
     let vertex_normals = area_weighted_normals(mesh, &face_normals, &face_areas);
-    let edges = all_edge_operators(mesh, &face_normals);
     let topo = mesh.topology();
-    let point = |v: u32| point_operator(mesh, &edges, &face_areas, &vertex_normals, v);
-    let operators: Vec<Option<Matrix3>> = (0..mesh.num_vertices() as u32)
+    let point = |v: u32| point_operator(mesh, &face_normals, &face_areas, &vertex_normals, v);
+    let operators: Vec<Option<Sym6f64>> = (0..mesh.num_vertices() as u32)
         .into_par_iter()
         .map(|v| {
             if options.boundary_from_interior && topo.vertex_kind(v) == VertexKind::Boundary {
@@ -425,15 +426,16 @@ pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvatu
             } else {
                 point(v)
             }
+            .map(|m| packed64(&m))
         })
         .collect();
+    drop((face_normals, face_areas));
     let direction_operators = direction_operators(mesh, &operators, &vertex_normals, options);
-    let (mut curvature, _) = collect_estimates(
-        mesh.num_vertices(),
+    let mut curvature = collect_estimates_with_normals(
+        vertex_normals,
         || (),
-        |_, v| {
-            let normal = vertex_normals[v as usize];
-            let Some(operator) = operators[v as usize] else {
+        |_, v, normal| {
+            let Some(operator) = operators[v as usize].as_ref().map(symmetric64) else {
                 return VertexEstimate::fallback(normal);
             };
             let (k_max, k_min, dir_max, dir_min) = match &direction_operators {
@@ -459,10 +461,10 @@ pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvatu
             }
             .sanitized()
         },
-    );
-    let (e_max, e_min) = extremalities_with(mesh, &face_normals, &face_areas, &curvature);
-    curvature.e_max = e_max;
-    curvature.e_min = e_min;
+    )
+    .0;
+    drop((operators, direction_operators));
+    fill_extremalities(mesh, &mut curvature);
     curvature
 }
 
@@ -497,8 +499,21 @@ fn interior_mean(
 /// precision (enough for directions; half the memory of a `Matrix3<f64>`).
 type Sym6 = [f32; 6];
 
-fn packed(m: &Matrix3) -> Sym6 {
-    [m.m11, m.m12, m.m13, m.m22, m.m23, m.m33].map(|x| x as f32)
+/// The six distinct entries of a symmetric 3×3 matrix in double precision: the point
+/// operators, stored without loss in 48 bytes instead of `Option<Matrix3>`'s 80.
+type Sym6f64 = [f64; 6];
+
+fn packed64(m: &Matrix3) -> Sym6f64 {
+    [m.m11, m.m12, m.m13, m.m22, m.m23, m.m33]
+}
+
+fn symmetric64(s: &Sym6f64) -> Matrix3 {
+    let [xx, xy, xz, yy, yz, zz] = *s;
+    Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
+}
+
+fn packed(m: &Sym6f64) -> Sym6 {
+    m.map(|x| x as f32)
 }
 
 fn symmetric(s: &Sym6) -> Matrix3 {
@@ -530,7 +545,7 @@ const ISOTROPIC_FRACTION: f64 = 0.3;
 /// direction error stays below 1°, against 3.7° with a uniform λ).
 fn direction_operators(
     mesh: &TriMesh,
-    operators: &[Option<Matrix3>],
+    operators: &[Option<Sym6f64>],
     normals: &[Vec3],
     options: &ShapeOperatorOptions,
 ) -> Option<Vec<Sym6>> {
@@ -546,7 +561,10 @@ fn direction_operators(
     let anisotropies: Vec<f32> = operators
         .par_iter()
         .zip(normals)
-        .map(|(o, &n)| o.as_ref().map_or(0.0, |m| anisotropy(m, n) as f32))
+        .map(|(o, &n)| {
+            o.as_ref()
+                .map_or(0.0, |m| anisotropy(&symmetric64(m), n) as f32)
+        })
         .collect();
     let weights: Vec<f32> = (0..mesh.num_vertices() as u32)
         .into_par_iter()

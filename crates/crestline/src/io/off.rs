@@ -32,7 +32,8 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
             let first = tokens.next()?;
             Some((n, first, tokens))
         });
-    let last_line = Lines::new(bytes).count().max(1);
+    // Counted only for an error message (a whole pass over the file).
+    let last_line = || Lines::new(bytes).count().max(1);
 
     let Some((line, first, mut rest)) = lines.next() else {
         return Err(source.whole("empty file"));
@@ -46,7 +47,7 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
         counts.extend(rest.map(|t| (line, t)));
         if counts.is_empty() {
             let Some((line, first, rest)) = lines.next() else {
-                return Err(source.at_line(last_line, "missing counts line after OFF header"));
+                return Err(source.at_line(last_line(), "missing counts line after OFF header"));
             };
             counts.push((line, first));
             counts.extend(rest.map(|t| (line, t)));
@@ -94,7 +95,7 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
     for v in 0..vertex_count {
         let Some((line, first, rest)) = lines.next() else {
             return Err(source.at_line(
-                last_line,
+                last_line(),
                 format!("the file ends after {v} of {vertex_count} vertices"),
             ));
         };
@@ -108,7 +109,7 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
     for f in 0..face_count {
         let Some((line, first, mut rest)) = lines.next() else {
             return Err(source.at_line(
-                last_line,
+                last_line(),
                 format!("the file ends after {f} of {face_count} faces"),
             ));
         };

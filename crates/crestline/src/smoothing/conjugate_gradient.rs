@@ -28,11 +28,12 @@
 //!   loses most of the gain (igea: 20 iterations with 2 blocks, whatever the vertex order),
 //!   because a sweep carries information across the whole mesh only when it is not cut.
 //!
-//! **Storage.** Compressed rows built once from the mesh's vertex → edge adjacency (no
-//! per-row allocation), each row ordered by neighbour so that its lower and upper parts are
-//! its two ends: per entry the neighbour (`u32`), the scaled weight `t w_pq / sqrt(d_p d_q)`
-//! (`f64`, shared by every field) and one sign bit per field — 13 bytes per entry, about
-//! 40 bytes per face.
+//! **Storage.** The rows are the mesh's own vertex → edge adjacency, ordered by neighbour so
+//! that the lower and upper parts of a row are its two ends; the system stores only, per
+//! edge, the scaled weight `t w_pq / sqrt(d_p d_q)` (`f64`, symmetric, shared by every field)
+//! and one sign bit per field — 9 bytes per edge, about 14 bytes per face (a compressed-row
+//! copy with a column per entry took 40). The weights' vector becomes the coefficients' in
+//! place.
 //!
 //! **Start and stopping.** Each step starts from the current values (the result of the
 //! previous step), or from zero when that is closer (the residual of the previous values is
@@ -50,7 +51,7 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::mesh::{ROW_BLOCK, Topology, split_rows};
+use crate::mesh::Topology;
 
 /// Rows per parallel work item (fixed so that sums do not depend on the thread count).
 const CHUNK: usize = 2048;
@@ -139,13 +140,9 @@ impl Default for ConjugateGradientOptions {
 #[derive(Debug, Clone)]
 pub struct ConnectionSystem<'m> {
     topology: &'m Topology,
-    /// Start of each row in `columns` (one more than the vertices).
-    row_start: Vec<u32>,
-    /// Neighbour of each entry, increasing within a row.
-    columns: Vec<u32>,
-    /// `t w_pq / sqrt(d_p d_q)` per entry.
+    /// `t w_pq / sqrt(d_p d_q)` per edge.
     coefficients: Vec<f64>,
-    /// Per entry: bit `f` set when `σ_pq = −1` for field `f`.
+    /// Per edge: bit `f` set when `σ_pq = −1` for field `f`.
     flips: Vec<u8>,
     /// `sqrt(d_p)` per vertex.
     sqrt_diagonal: Vec<f64>,
@@ -176,7 +173,7 @@ impl<'m> ConnectionSystem<'m> {
         options: ConjugateGradientOptions,
     ) -> Result<Self> {
         options.validate()?;
-        let (n, m) = (topology.num_vertices(), topology.num_edges());
+        let m = topology.num_edges();
         if flips.is_empty() || flips.len() > MAX_FIELDS {
             return Err(Error::InvalidInput(format!(
                 "conjugate gradients solve 1 to {MAX_FIELDS} fields together, got {}",
@@ -194,27 +191,17 @@ impl<'m> ConnectionSystem<'m> {
                 "{m} edges is more than the solver indexes"
             )));
         }
-        let mut row_start = Vec::with_capacity(n + 1);
-        row_start.push(0u32);
-        for v in 0..n as u32 {
-            let end = row_start[v as usize] + topology.vertex_edges(v).len() as u32;
-            row_start.push(end);
-        }
-        let edges = topology.edges();
-        let columns = per_entry(topology, &row_start, |v, e| {
-            let [a, b] = edges[e];
-            a ^ b ^ v
-        });
         let fields = flips.len();
-        let flips = per_entry(topology, &row_start, |_, e| {
-            flips.iter().enumerate().fold(0u8, |bits, (f, s)| {
-                bits | (u8::from(s.is_some_and(|s| s[e])) << f)
+        let flips = (0..m)
+            .into_par_iter()
+            .map(|e| {
+                flips.iter().enumerate().fold(0u8, |bits, (f, s)| {
+                    bits | (u8::from(s.is_some_and(|s| s[e])) << f)
+                })
             })
-        });
+            .collect();
         let mut system = ConnectionSystem {
             topology,
-            row_start,
-            columns,
             coefficients: Vec::new(),
             flips,
             sqrt_diagonal: Vec::new(),
@@ -231,7 +218,7 @@ impl<'m> ConnectionSystem<'m> {
     /// # Errors
     /// [`Error::InvalidInput`] for mismatched lengths, negative or non-finite weights or
     /// time, or masses that are not positive and finite.
-    pub fn update(&mut self, weights: Vec<f64>, mass: Vec<f64>, time: f64) -> Result<()> {
+    pub fn update(&mut self, mut weights: Vec<f64>, mass: Vec<f64>, time: f64) -> Result<()> {
         let topo = self.topology;
         let (n, m) = (topo.num_vertices(), topo.num_edges());
         if weights.len() != m || mass.len() != n {
@@ -265,31 +252,28 @@ impl<'m> ConnectionSystem<'m> {
                     .sqrt()
             })
             .collect();
-        self.coefficients = per_entry(topo, &self.row_start, |v, e| {
-            let q = self.other_end(v, e);
-            time * weights[e] / (sqrt_diagonal[v as usize] * sqrt_diagonal[q as usize])
-        });
+        // Symmetric: the product of the two square roots is the same either way round.
+        weights
+            .par_iter_mut()
+            .zip(topo.edges().par_iter())
+            .for_each(|(w, &[a, b])| {
+                *w = time * *w / (sqrt_diagonal[a as usize] * sqrt_diagonal[b as usize]);
+            });
+        self.coefficients = weights;
         self.sqrt_diagonal = sqrt_diagonal;
         self.mass = mass;
         Ok(())
     }
 
-    /// The other end of edge `e` seen from `v`.
-    #[inline]
-    fn other_end(&self, v: u32, e: usize) -> u32 {
-        let [a, b] = self.topology.edges()[e];
-        a ^ b ^ v
-    }
-
     /// The entries of row `v`: neighbours, coefficients and sign bits.
     #[inline(always)]
     fn row(&self, v: usize) -> impl DoubleEndedIterator<Item = (usize, f64, u8)> + '_ {
-        let range = self.row_start[v] as usize..self.row_start[v + 1] as usize;
-        self.columns[range.clone()]
-            .iter()
-            .zip(&self.coefficients[range.clone()])
-            .zip(&self.flips[range])
-            .map(|((&q, &w), &flips)| (q as usize, w, flips))
+        let edges = self.topology.edges();
+        self.topology.vertex_edges(v as u32).iter().map(move |&e| {
+            let e = e as usize;
+            let [a, b] = edges[e];
+            ((a ^ b) as usize ^ v, self.coefficients[e], self.flips[e])
+        })
     }
 
     /// `Σ_{q<v} W_vq u(q)` (`below`) or `Σ_{q>v} W_vq u(q)` for field `f`: the lower and upper
@@ -365,16 +349,11 @@ impl<'m> ConnectionSystem<'m> {
         v: usize,
         value: impl Fn(usize) -> [f64; K],
     ) -> [f64; K] {
-        let range = self.row_start[v] as usize..self.row_start[v + 1] as usize;
-        let columns = &self.columns[range.clone()];
-        // Same lengths as `columns`, which lets the compiler drop the bounds checks below.
-        let coefficients = &self.coefficients[range.clone()][..columns.len()];
-        let flips = &self.flips[range][..columns.len()];
         let mut sum = [0.0; K];
-        for k in 0..columns.len() {
-            let u = value(columns[k] as usize);
+        for (q, w, flips) in self.row(v) {
+            let u = value(q);
             for f in 0..K {
-                sum[f] += signed(coefficients[k], flips[k], f) * u[f];
+                sum[f] += signed(w, flips, f) * u[f];
             }
         }
         sum
@@ -657,31 +636,6 @@ impl<'m> ConnectionSystem<'m> {
             });
         Ok(iterations)
     }
-}
-
-/// One value per compressed-row entry (the edges of each vertex, in the topology's order),
-/// computed in parallel from the vertex and the edge. `row_start` are the row offsets.
-fn per_entry<T: Send + Default + Clone>(
-    topology: &Topology,
-    row_start: &[u32],
-    value: impl Fn(u32, usize) -> T + Sync,
-) -> Vec<T> {
-    let mut out = vec![T::default(); row_start[topology.num_vertices()] as usize];
-    split_rows(&mut out, row_start, ROW_BLOCK)
-        .into_par_iter()
-        .for_each(|(rows, piece)| {
-            let entries = rows.flat_map(|v| {
-                let v = v as u32;
-                topology
-                    .vertex_edges(v)
-                    .iter()
-                    .map(move |&e| (v, e as usize))
-            });
-            for (slot, (v, e)) in piece.iter_mut().zip(entries) {
-                *slot = value(v, e);
-            }
-        });
-    out
 }
 
 fn not_finite() -> Error {
