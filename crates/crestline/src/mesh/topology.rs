@@ -2,8 +2,13 @@
 //!
 //! Built once in O(F log d) (d the vertex degree) from the face list:
 //! - vertex → incident faces and vertex → incident edges (compressed rows),
-//! - unique undirected edges, edge → incident faces (compressed rows), face → its three edges,
-//! - a [`VertexKind`] per vertex and an [`EdgeKind`] per edge.
+//! - unique undirected edges, edge → incident faces (a pair per edge, a side table for
+//!   non-manifold edges),
+//! - a [`VertexKind`] per vertex and an [`EdgeKind`] per edge;
+//!
+//! it keeps the faces, and looks a face's three edges up in the edge lists of its vertices
+//! ([`Topology::face_edges`], a scan of a few entries) rather than storing them. About 65 bytes
+//! per face in all (see `BENCHMARKS.md`, "Comparison with CGAL Ridges_3").
 //!
 //! Ordered one-rings are walked on demand across edges that have exactly two faces, so they
 //! work whatever the orientation of the neighbouring faces; a vertex whose faces form more
