@@ -130,9 +130,11 @@ impl TriMesh {
         })
     }
 
-    /// The positions and the (non-degenerate) triangles, dropping the connectivity.
+    /// The positions and the (non-degenerate) triangles, dropping the connectivity (the
+    /// triangles are copied when the connectivity is shared with another mesh).
     pub fn into_parts(self) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-        (self.positions, self.faces)
+        let faces = self.faces().to_vec();
+        (self.positions, faces)
     }
 
     /// Vertex positions, one per vertex (including unreferenced ones).
