@@ -9,6 +9,7 @@ use crestline::TriMesh;
 use crestline::extract::{ExtractOptions, extract};
 use crestline::io::Format;
 use crestline::lines::FeatureLines;
+use crestline::mesh::{EdgeKind, VertexKind};
 
 /// The built-in example: the fandisk CAD part (see `crates/crestline/fixtures/README.md`).
 const BUILT_IN_EXAMPLE: &[u8] = include_bytes!("../../crestline/fixtures/fandisk.obj");
@@ -47,9 +48,11 @@ pub struct OrientArgs {
     pub keep_orientation: bool,
 }
 
-/// Reverses the closed components of `mesh` that face inward (unless `args` says to keep
-/// them) and says so on stderr.
-pub fn orient(mesh: TriMesh, name: &str, args: OrientArgs) -> Result<TriMesh> {
+/// Says on stderr what of `mesh` the algorithms skip or treat specially (degenerate
+/// triangles dropped, unreferenced vertices, non-manifold edges), then reverses the closed
+/// components that face inward (unless `args` says to keep them) and says so.
+pub fn prepare_mesh(mesh: TriMesh, name: &str, args: OrientArgs) -> Result<TriMesh> {
+    note_awkward_parts(&mesh, name);
     if args.keep_orientation {
         return Ok(mesh);
     }
@@ -62,6 +65,47 @@ pub fn orient(mesh: TriMesh, name: &str, args: OrientArgs) -> Result<TriMesh> {
         );
     }
     Ok(mesh)
+}
+
+/// One line on stderr listing the parts of `mesh` that are skipped or handled specially,
+/// when there are any.
+fn note_awkward_parts(mesh: &TriMesh, name: &str) {
+    let topo = mesh.topology();
+    let unreferenced = topo
+        .vertex_kinds()
+        .iter()
+        .filter(|&&k| k == VertexKind::Unreferenced)
+        .count();
+    let non_manifold = (0..topo.num_edges() as u32)
+        .filter(|&e| topo.edge_kind(e) == EdgeKind::NonManifold)
+        .count();
+    let plural =
+        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    let mut parts = Vec::new();
+    if mesh.degenerate_faces() > 0 {
+        parts.push(plural(
+            mesh.degenerate_faces(),
+            "degenerate triangle dropped (repeated corner or zero area)",
+            "degenerate triangles dropped (repeated corner or zero area)",
+        ));
+    }
+    if unreferenced > 0 {
+        parts.push(plural(
+            unreferenced,
+            "unreferenced vertex ignored",
+            "unreferenced vertices ignored",
+        ));
+    }
+    if non_manifold > 0 {
+        parts.push(plural(
+            non_manifold,
+            "non-manifold edge (more than two triangles)",
+            "non-manifold edges (more than two triangles)",
+        ));
+    }
+    if !parts.is_empty() {
+        eprintln!("{name}: {}", parts.join("; "));
+    }
 }
 
 /// Reads `path`, or builds the built-in example when it is `None` (and says so on stderr).

@@ -65,3 +65,22 @@ fn an_ellipsoid_wound_inward_still_has_a_ridge_not_a_valley() {
         "{ridges} ridges, {valleys} valleys"
     );
 }
+
+#[test]
+fn skipped_parts_of_a_mesh_are_named_on_stderr() {
+    // Two triangles of a square, a degenerate one (repeated corner) and two stray vertices.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("awkward.off");
+    std::fs::write(
+        &path,
+        "OFF\n6 3 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 2 2\n5 5 5\n3 0 1 2\n3 1 3 2\n3 0 0 1\n",
+    )
+    .unwrap();
+    let (ridges, valleys, stderr) = extract(&path, &[]);
+    assert_eq!((ridges, valleys), (0, 0));
+    assert!(
+        stderr.contains("1 degenerate triangle dropped")
+            && stderr.contains("2 unreferenced vertices ignored"),
+        "{stderr}"
+    );
+}

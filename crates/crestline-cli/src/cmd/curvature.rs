@@ -12,7 +12,7 @@ use crestline::io::{PlyEncoding, PlyWriter, VertexProperty};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::input::{FormatArg, OrientArgs, load_mesh, orient};
+use crate::input::{FormatArg, OrientArgs, load_mesh, prepare_mesh};
 
 /// The estimator.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -73,7 +73,7 @@ fn columns(c: &Curvature) -> Vec<(&'static str, Vec<f64>)> {
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
-    let mesh = orient(mesh, &name, args.orient)?;
+    let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let options = CurvatureOptions::default()
         .with_estimator(match args.estimator {
             EstimatorArg::ShapeOperator => Estimator::ShapeOperator,

@@ -7,7 +7,7 @@ use anyhow::{Result, bail};
 use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::io::{Format, PlyEncoding, PlyWriter, VertexProperty};
 
-use crate::input::{FormatArg, OrientArgs, load_lines, load_mesh, orient};
+use crate::input::{FormatArg, OrientArgs, load_lines, load_mesh, prepare_mesh};
 
 /// Arguments of `crestline distance`.
 #[derive(Debug, clap::Args)]
@@ -45,7 +45,7 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
-    let mesh = orient(mesh, &name, args.orient)?;
+    let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let lines = load_lines(args.lines.as_ref(), &mesh)?;
     let options = DistanceOptions::default().with_relax_across_triangles(!args.edges_only);
     let distance = feature_distance(&mesh, &lines, &options)?;

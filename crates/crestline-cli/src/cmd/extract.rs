@@ -13,7 +13,7 @@ use crestline::smoothing::surface::SurfaceSmoothing;
 use crestline::{TriMesh, Vec3};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::input::{FormatArg, OrientArgs, load_mesh, orient};
+use crate::input::{FormatArg, OrientArgs, load_mesh, prepare_mesh};
 
 /// Which pipeline runs.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -132,7 +132,7 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     let clock = Instant::now();
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.input_format)?;
-    let mesh = orient(mesh, &name, args.orient)?;
+    let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let load = clock.elapsed();
     let options = options_from_args(&args, &mesh)?;
     let extraction = run_with_progress(&mesh, &options, args.quiet)?;

@@ -7,7 +7,7 @@ use crestline::io::{Format, WriteOptions, write_mesh};
 use crestline::lines::FeatureLines;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
 
-use crate::input::{FormatArg, OrientArgs, load_lines, load_mesh, orient};
+use crate::input::{FormatArg, OrientArgs, load_lines, load_mesh, prepare_mesh};
 
 /// Arguments of `crestline simplify`.
 #[derive(Debug, clap::Args)]
@@ -61,7 +61,7 @@ pub fn run(args: Args) -> Result<()> {
         options.eps = eps;
     }
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
-    let mesh = orient(mesh, &name, args.orient)?;
+    let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let lines = if options.eta == 0.0 && args.lines.is_none() {
         FeatureLines::default()
     } else {

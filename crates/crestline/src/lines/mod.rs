@@ -85,7 +85,8 @@ impl FeatureLines {
 
     /// Total length of all lines.
     pub fn total_length(&self) -> f64 {
-        self.lines.iter().map(|l| l.length).sum()
+        // A fold from +0: `sum` of no lines would be -0.
+        self.lines.iter().fold(0.0, |total, l| total + l.length)
     }
 }
 

@@ -130,11 +130,10 @@ impl TriMesh {
         })
     }
 
-    /// The positions and the (non-degenerate) triangles, dropping the connectivity (the
-    /// triangles are copied when the connectivity is shared with another mesh).
-    pub fn into_parts(self) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-        let faces = self.faces().to_vec();
-        (self.positions, faces)
+    /// Reverses the winding of the faces marked in `flip` (one flag per face), keeping the
+    /// connectivity (copied first when it is shared with another mesh).
+    pub(crate) fn reverse_faces(&mut self, flip: &[bool]) {
+        Arc::make_mut(&mut self.topology).reverse_faces(flip);
     }
 
     /// Vertex positions, one per vertex (including unreferenced ones).

@@ -13,9 +13,16 @@
 //! height field, a scan with holes) and inconsistent ones are left as they are and counted.
 //! Components are the connected parts over shared vertices, as in [`super::MeshInfo`].
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use rayon::prelude::*;
+
 use crate::error::Result;
 
 use super::{TriMesh, Vec3};
+
+/// Faces per parallel work item of the volume sum.
+const VOLUME_CHUNK: usize = 1 << 14;
 
 /// What [`orientation`] found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -39,31 +46,52 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
     let faces = mesh.faces();
     let (vertex_component, count) = topo.vertex_components(faces);
     let component = |f: usize| vertex_component[faces[f][0] as usize] as usize;
-    // Per component: not closed, not consistent.
-    let mut open = vec![false; count];
-    let mut inconsistent = vec![false; count];
-    for e in 0..topo.num_edges() as u32 {
+    // Per component: not closed, not consistent (flags set from parallel passes).
+    let open: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
+    let inconsistent: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
+    (0..topo.num_edges() as u32).into_par_iter().for_each(|e| {
         let edge_faces = topo.edge_faces(e);
         let Some(&first) = edge_faces.first() else {
-            continue;
+            return;
         };
         let c = component(first as usize);
         match *edge_faces {
             [f, g] => {
-                if runs_forward(mesh, f, e) == runs_forward(mesh, g, e) {
-                    inconsistent[c] = true;
+                let edge = topo.edge(e);
+                if runs_forward(&faces[f as usize], edge) == runs_forward(&faces[g as usize], edge)
+                {
+                    inconsistent[c].store(true, Ordering::Relaxed);
                 }
             }
-            _ => open[c] = true,
+            _ => open[c].store(true, Ordering::Relaxed),
         }
-    }
+    });
+    let open: Vec<bool> = open.into_iter().map(AtomicBool::into_inner).collect();
+    let inconsistent: Vec<bool> = inconsistent
+        .into_iter()
+        .map(AtomicBool::into_inner)
+        .collect();
     // Signed volumes about the bounding-box centre (for fewer cancellations).
     let centre = mesh.bounding_box().center();
-    let mut volume = vec![0.0f64; count];
-    for (f, t) in faces.iter().enumerate() {
+    let tetrahedron = |t: &[u32; 3]| {
         let [a, b, c] = t.map(|v| mesh.position(v) - centre);
-        volume[component(f)] += a.dot(&b.cross(&c)) / 6.0;
-    }
+        a.dot(&b.cross(&c)) / 6.0
+    };
+    let volume: Vec<f64> = if count == 1 {
+        // The usual case: in parallel, over chunks of a fixed size added in order, so that
+        // the sum does not depend on the number of threads.
+        let partial: Vec<f64> = faces
+            .par_chunks(VOLUME_CHUNK)
+            .map(|chunk| chunk.iter().map(tetrahedron).sum())
+            .collect();
+        vec![partial.iter().sum()]
+    } else {
+        let mut volume = vec![0.0f64; count];
+        for (f, t) in faces.iter().enumerate() {
+            volume[component(f)] += tetrahedron(t);
+        }
+        volume
+    };
     let mut report = Orientation {
         components: count,
         ..Default::default()
@@ -88,31 +116,26 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
     (report, per_face)
 }
 
-/// Whether face `f` runs through edge `e` from its smaller to its larger vertex.
-fn runs_forward(mesh: &TriMesh, f: u32, e: u32) -> bool {
-    let slots = mesh.topology().face_edges(f);
-    let s = slots.iter().position(|&x| x == e).unwrap_or(0);
-    mesh.faces()[f as usize][s] == mesh.topology().edge(e)[0]
+/// Whether `triangle` runs through `edge` from its first (smaller) to its second vertex.
+fn runs_forward(triangle: &[u32; 3], [a, b]: [u32; 2]) -> bool {
+    let i = triangle.iter().position(|&v| v == a).unwrap_or(0);
+    triangle[(i + 1) % 3] == b
 }
 
 /// Reverses the triangles of the closed components that face inward (see the module docs),
-/// so that normals point outward. Returns the mesh unchanged (not rebuilt) when nothing faces
-/// inward, and the report either way.
+/// so that normals point outward, and returns the report. The connectivity does not depend
+/// on the winding and is kept.
 ///
 /// # Errors
-/// Only what [`TriMesh::new`] reports, which cannot happen for a mesh it already accepted.
+/// None at present; the `Result` leaves room for checks on meshes that cannot be oriented.
 pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
     let (report, flip) = orientation(&mesh);
     if report.inward == 0 {
         return Ok((mesh, report));
     }
-    let (positions, mut faces) = mesh.into_parts();
-    for (t, &flip) in faces.iter_mut().zip(&flip) {
-        if flip {
-            t.swap(1, 2);
-        }
-    }
-    Ok((TriMesh::new(positions, faces)?, report))
+    let mut mesh = mesh;
+    mesh.reverse_faces(&flip);
+    Ok((mesh, report))
 }
 
 /// Signed volume enclosed by `mesh` (positive when a closed mesh faces outward). Meaningful
@@ -156,6 +179,15 @@ mod tests {
         assert_eq!(report.inward, 1);
         assert_eq!(report.inward_faces, sphere.num_faces());
         assert!((signed_volume(&fixed) - v).abs() < 1e-9 * v);
+        // The kept connectivity is what building it anew from the reversed faces gives.
+        let rebuilt = TriMesh::new(fixed.positions().to_vec(), fixed.faces().to_vec()).unwrap();
+        let (a, b) = (fixed.topology(), rebuilt.topology());
+        assert_eq!(a.edges(), b.edges());
+        assert_eq!(a.vertex_kinds(), b.vertex_kinds());
+        for f in 0..fixed.num_faces() as u32 {
+            assert_eq!(a.face_edges(f), b.face_edges(f), "face {f}");
+            assert_eq!(a.face_neighbors(f), b.face_neighbors(f), "face {f}");
+        }
     }
 
     #[test]

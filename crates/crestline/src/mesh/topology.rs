@@ -270,6 +270,17 @@ impl Topology {
         None
     }
 
+    /// Reverses the winding of the faces marked in `flip` (swaps their last two corners).
+    /// Nothing else here depends on the winding (faces per vertex and per edge are sets,
+    /// a face's edges are looked up from its corners), so the connectivity stays valid.
+    pub(crate) fn reverse_faces(&mut self, flip: &[bool]) {
+        self.faces.par_iter_mut().zip(flip).for_each(|(t, &flip)| {
+            if flip {
+                t.swap(1, 2);
+            }
+        });
+    }
+
     /// The triangles the connectivity was built from.
     pub fn faces(&self) -> &[[u32; 3]] {
         &self.faces
