@@ -13,6 +13,10 @@
 //! height field, a scan with holes) and inconsistent ones are left as they are and counted.
 //! Components are the connected parts over shared vertices, as in [`super::MeshInfo`].
 
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+
+use rayon::prelude::*;
+
 use crate::error::Result;
 
 use super::{TriMesh, Vec3};
@@ -40,23 +44,28 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
     let (vertex_component, count) = topo.vertex_components(faces);
     let component = |f: usize| vertex_component[faces[f][0] as usize] as usize;
     // Per component: not closed, not consistent.
-    let mut open = vec![false; count];
-    let mut inconsistent = vec![false; count];
-    for e in 0..topo.num_edges() as u32 {
+    let open: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
+    let inconsistent: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
+    (0..topo.num_edges() as u32).into_par_iter().for_each(|e| {
         let edge_faces = topo.edge_faces(e);
         let Some(&first) = edge_faces.first() else {
-            continue;
+            return;
         };
         let c = component(first as usize);
         match *edge_faces {
             [f, g] => {
                 if runs_forward(mesh, f, e) == runs_forward(mesh, g, e) {
-                    inconsistent[c] = true;
+                    inconsistent[c].store(true, Relaxed);
                 }
             }
-            _ => open[c] = true,
+            _ => open[c].store(true, Relaxed),
         }
-    }
+    });
+    let open: Vec<bool> = open.into_iter().map(AtomicBool::into_inner).collect();
+    let inconsistent: Vec<bool> = inconsistent
+        .into_iter()
+        .map(AtomicBool::into_inner)
+        .collect();
     // Signed volumes about the bounding-box centre (for fewer cancellations).
     let centre = mesh.bounding_box().center();
     let mut volume = vec![0.0f64; count];
@@ -83,8 +92,11 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
             flip[c] = true;
         }
     }
-    let per_face: Vec<bool> = (0..faces.len()).map(|f| flip[component(f)]).collect();
-    report.inward_faces = per_face.iter().filter(|&&x| x).count();
+    let per_face: Vec<bool> = (0..faces.len())
+        .into_par_iter()
+        .map(|f| flip[component(f)])
+        .collect();
+    report.inward_faces = per_face.par_iter().filter(|&&x| x).count();
     (report, per_face)
 }
 
@@ -100,19 +112,14 @@ fn runs_forward(mesh: &TriMesh, f: u32, e: u32) -> bool {
 /// inward, and the report either way.
 ///
 /// # Errors
-/// Only what [`TriMesh::new`] reports, which cannot happen for a mesh it already accepted.
+/// None: reversing triangles keeps the connectivity, which is reused as it is (the `Result`
+/// stays for callers written against the version that rebuilt the mesh).
 pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
     let (report, flip) = orientation(&mesh);
     if report.inward == 0 {
         return Ok((mesh, report));
     }
-    let (positions, mut faces) = mesh.into_parts();
-    for (t, &flip) in faces.iter_mut().zip(&flip) {
-        if flip {
-            t.swap(1, 2);
-        }
-    }
-    Ok((TriMesh::new(positions, faces)?, report))
+    Ok((mesh.with_flipped_faces(&flip), report))
 }
 
 /// Signed volume enclosed by `mesh` (positive when a closed mesh faces outward). Meaningful
@@ -156,6 +163,51 @@ mod tests {
         assert_eq!(report.inward, 1);
         assert_eq!(report.inward_faces, sphere.num_faces());
         assert!((signed_volume(&fixed) - v).abs() < 1e-9 * v);
+    }
+
+    #[test]
+    fn flipping_keeps_the_connectivity_a_rebuild_gives() {
+        // An inward sphere (flipped), and apart from it three fins on one edge: boundary and
+        // non-manifold edges.
+        let sphere = flipped(&shapes::icosphere(1.0, 2));
+        let mut positions = sphere.positions().to_vec();
+        let mut faces = sphere.faces().to_vec();
+        let n = positions.len() as u32;
+        positions.extend([
+            Vec3::new(3.0, 0.0, 0.0),
+            Vec3::new(3.0, 1.0, 0.0),
+            Vec3::new(4.0, 0.0, 0.0),
+            Vec3::new(3.0, 0.0, 1.0),
+            Vec3::new(2.0, 0.0, 0.0),
+        ]);
+        faces.extend([[n, n + 1, n + 2], [n + 1, n, n + 3], [n, n + 1, n + 4]]);
+        let mesh = TriMesh::new(positions, faces).unwrap();
+        let (report, flip) = orientation(&mesh);
+        assert_eq!(report.inward_faces, sphere.num_faces());
+        let kept = mesh.clone().with_flipped_faces(&flip);
+        let (positions, mut faces) = mesh.into_parts();
+        for (t, &f) in faces.iter_mut().zip(&flip) {
+            if f {
+                t.swap(1, 2);
+            }
+        }
+        let rebuilt = TriMesh::new(positions, faces).unwrap();
+        let (k, r) = (kept.topology(), rebuilt.topology());
+        assert_eq!(k.faces(), r.faces());
+        assert_eq!(k.edges(), r.edges());
+        assert_eq!(k.vertex_kinds(), r.vertex_kinds());
+        for e in 0..r.num_edges() as u32 {
+            assert_eq!(k.edge_faces(e), r.edge_faces(e));
+            assert_eq!(k.edge_kind(e), r.edge_kind(e));
+        }
+        for v in 0..r.num_vertices() as u32 {
+            assert_eq!(k.vertex_faces(v), r.vertex_faces(v));
+            assert_eq!(k.vertex_edges(v), r.vertex_edges(v));
+        }
+        for f in 0..r.faces().len() as u32 {
+            assert_eq!(k.face_edges(f), r.face_edges(f));
+            assert_eq!(k.face_neighbors(f), r.face_neighbors(f));
+        }
     }
 
     #[test]
