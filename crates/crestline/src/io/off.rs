@@ -10,6 +10,10 @@
 //! per line: `n i0 ... i(n-1)` with 0-based indices, optionally followed by a colour.
 //! Polygons are fan-triangulated. `#` starts a comment; blank lines are skipped.
 //!
+//! The body is cut at line breaks into pieces parsed on all cores (one pass counts the records
+//! of each piece, a second parses them); errors still name the line, counted only when one
+//! occurs.
+//!
 //! Limits: the body must put one vertex or face per line (as every writer does); 4D (`4OFF`),
 //! n-dimensional (`nOFF`) and binary OFF are refused with an error.
 //!
@@ -18,6 +22,8 @@
 
 use std::io::Write;
 
+use rayon::prelude::*;
+
 use super::text::{Lines, Source, Tokens, parse_i64, show, vertex};
 use super::{MeshData, push_fan, write_f64};
 use crate::error::Result;
@@ -25,17 +31,23 @@ use crate::mesh::TriMesh;
 
 /// Parses an OFF file held in memory.
 pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
+    parse_with_chunks(bytes, source, default_chunk_bytes(bytes.len()))
+}
+
+/// Size of the pieces the body is cut into for parsing on all cores: a few per thread (so
+/// uneven pieces balance out), at least 64 KiB (so small files stay in one piece).
+fn default_chunk_bytes(len: usize) -> usize {
+    (len / (4 * rayon::current_num_threads())).max(1 << 16)
+}
+
+/// [`parse`] with the body cut into pieces of about `chunk_bytes` bytes.
+fn parse_with_chunks(bytes: &[u8], source: Source<'_>, chunk_bytes: usize) -> Result<MeshData> {
     // Only lines with content matter: comments and blank lines are dropped here.
-    let mut lines = Lines::new(bytes)
-        .map(|(n, text)| (n, Tokens::new(text)))
-        .filter_map(|(n, mut tokens)| {
-            let first = tokens.next()?;
-            Some((n, first, tokens))
-        });
+    let mut raw = Lines::new(bytes);
     // Counted only for an error message (a whole pass over the file).
     let last_line = || Lines::new(bytes).count().max(1);
 
-    let Some((line, first, mut rest)) = lines.next() else {
+    let Some((line, first, mut rest)) = next_content(&mut raw) else {
         return Err(source.whole("empty file"));
     };
     // The counts: after the header keyword on its line, on the next line, or (no header)
@@ -46,7 +58,7 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
         check_header_prefix(prefix).map_err(|m| source.at_line(line, m))?;
         counts.extend(rest.map(|t| (line, t)));
         if counts.is_empty() {
-            let Some((line, first, rest)) = lines.next() else {
+            let Some((line, first, rest)) = next_content(&mut raw) else {
                 return Err(source.at_line(last_line(), "missing counts line after OFF header"));
             };
             counts.push((line, first));
@@ -90,61 +102,180 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
         ));
     }
 
-    // Every vertex line holds at least 6 bytes ("0 0 0\n"), which bounds the allocation.
-    let mut positions = Vec::with_capacity(vertex_count.min(bytes.len() / 6));
-    for v in 0..vertex_count {
-        let Some((line, first, rest)) = lines.next() else {
-            return Err(source.at_line(
-                last_line(),
-                format!("the file ends after {v} of {vertex_count} vertices"),
-            ));
-        };
-        let p = vertex(&mut std::iter::once(first).chain(rest), v)
-            .map_err(|m| source.at_line(line, m))?;
-        positions.push(p);
+    let body = Body {
+        bytes,
+        vertex_count,
+        face_count,
+    };
+    let pieces = body.pieces(raw.offset(), chunk_bytes);
+    // Pass 1: how many records (lines with content) each piece holds, so that every piece
+    // knows the number of its first record.
+    let records: Vec<usize> = pieces
+        .par_iter()
+        .map(|r| {
+            Lines::new(&bytes[r.clone()])
+                .filter(|(_, text)| Tokens::new(text).next().is_some())
+                .count()
+        })
+        .collect();
+    let mut first_record = Vec::with_capacity(pieces.len());
+    let mut total = 0usize;
+    for n in &records {
+        first_record.push(total);
+        total += n;
     }
-
-    let mut faces = Vec::with_capacity(face_count.min(bytes.len() / 8));
-    let mut corners: Vec<u32> = Vec::with_capacity(8);
-    for f in 0..face_count {
-        let Some((line, first, mut rest)) = lines.next() else {
-            return Err(source.at_line(
-                last_line(),
-                format!("the file ends after {f} of {face_count} faces"),
-            ));
-        };
-        let at = |m: String| source.at_line(line, m);
-        let n = parse_i64(first).ok_or_else(|| {
-            at(format!(
-                "non-numeric token '{}' where the vertex count of face {f} was expected",
-                show(first)
-            ))
-        })?;
-        if n < 3 {
-            return Err(at(format!("face {f} has {n} vertices (at least 3 needed)")));
-        }
-        corners.clear();
-        for k in 0..n {
-            let Some(token) = rest.next() else {
-                return Err(at(format!("face {f} lists {k} of its {n} vertex indices")));
-            };
-            let i = parse_i64(token).ok_or_else(|| {
-                at(format!(
-                    "non-numeric token '{}' where a vertex index of face {f} was expected",
-                    show(token)
-                ))
-            })?;
-            if i < 0 || i as u64 >= vertex_count as u64 {
-                return Err(at(format!(
-                    "face {f}: vertex index {i} out of range (the file has {vertex_count} \
-                     vertices)"
-                )));
+    // Pass 2: parse the pieces; the first failure in file order is the one reported, with
+    // its line number counted only then.
+    let parsed: Vec<_> = pieces
+        .par_iter()
+        .zip(first_record.par_iter())
+        .map(|(r, &first)| body.parse_piece(r.start, r.end, first))
+        .collect();
+    let mut positions = Vec::with_capacity(vertex_count.min(total));
+    let mut triangles = 0;
+    for piece in &parsed {
+        match piece {
+            Ok((p, f)) => {
+                positions.extend_from_slice(p);
+                triangles += f.len();
             }
-            corners.push(i as u32);
+            Err((offset, message)) => {
+                let line = memchr::memchr_iter(b'\n', &bytes[..*offset]).count() + 1;
+                return Err(source.at_line(line, message.clone()));
+            }
         }
-        push_fan(&mut faces, &corners);
+    }
+    if total < vertex_count {
+        return Err(source.at_line(
+            last_line(),
+            format!("the file ends after {total} of {vertex_count} vertices"),
+        ));
+    }
+    if total - vertex_count < face_count {
+        return Err(source.at_line(
+            last_line(),
+            format!(
+                "the file ends after {} of {face_count} faces",
+                total - vertex_count
+            ),
+        ));
+    }
+    let mut faces = Vec::with_capacity(triangles);
+    for (_, f) in parsed.into_iter().flatten() {
+        faces.extend_from_slice(&f);
     }
     Ok(MeshData { positions, faces })
+}
+
+/// The next line with content: its number, first token and the rest of its tokens.
+fn next_content<'a>(raw: &mut Lines<'a>) -> Option<(usize, &'a [u8], Tokens<'a>)> {
+    raw.by_ref()
+        .map(|(n, text)| (n, Tokens::new(text)))
+        .find_map(|(n, mut tokens)| {
+            let first = tokens.next()?;
+            Some((n, first, tokens))
+        })
+}
+
+/// The records after the header: `vertex_count` vertex lines, then `face_count` face lines;
+/// anything after them is ignored.
+struct Body<'a> {
+    bytes: &'a [u8],
+    vertex_count: usize,
+    face_count: usize,
+}
+
+/// Vertices and triangles of one piece of the body, or the byte offset of the line that
+/// failed and what is wrong with it.
+type Piece = std::result::Result<(Vec<[f64; 3]>, Vec<[u32; 3]>), (usize, String)>;
+
+impl Body<'_> {
+    /// Cuts `bytes[start..]` into ranges of about `chunk_bytes` bytes that end at line ends.
+    fn pieces(&self, start: usize, chunk_bytes: usize) -> Vec<std::ops::Range<usize>> {
+        let len = self.bytes.len();
+        let mut pieces = Vec::new();
+        let mut begin = start;
+        while begin < len {
+            let cut = (begin + chunk_bytes.max(1)).min(len);
+            let end = memchr::memchr(b'\n', &self.bytes[cut.saturating_sub(1)..])
+                .map_or(len, |n| cut - 1 + n + 1)
+                .max(begin + 1);
+            pieces.push(begin..end);
+            begin = end;
+        }
+        pieces
+    }
+
+    /// Parses the records in `bytes[start..end]`, the first of which is record `first`.
+    fn parse_piece(&self, start: usize, end: usize, first: usize) -> Piece {
+        let records = self.vertex_count + self.face_count;
+        let mut positions = Vec::new();
+        let mut faces = Vec::new();
+        if first >= records {
+            return Ok((positions, faces));
+        }
+        let mut corners: Vec<u32> = Vec::with_capacity(8);
+        let mut record = first;
+        let mut lines = Lines::new(&self.bytes[start..end]);
+        while record < records {
+            let line_start = start + lines.offset();
+            let Some((_, text)) = lines.next() else {
+                break;
+            };
+            let mut tokens = Tokens::new(text);
+            let Some(head) = tokens.next() else {
+                continue;
+            };
+            let result = if record < self.vertex_count {
+                vertex(&mut std::iter::once(head).chain(tokens), record).map(|p| positions.push(p))
+            } else {
+                let f = record - self.vertex_count;
+                face(head, tokens, f, self.vertex_count, &mut corners)
+                    .map(|()| push_fan(&mut faces, &corners))
+            };
+            result.map_err(|m| (line_start, m))?;
+            record += 1;
+        }
+        Ok((positions, faces))
+    }
+}
+
+/// Reads face `f` (`n i0 ... i(n-1)`, `n` already split off as `head`) into `corners`.
+fn face<'a>(
+    head: &[u8],
+    mut rest: impl Iterator<Item = &'a [u8]>,
+    f: usize,
+    vertex_count: usize,
+    corners: &mut Vec<u32>,
+) -> std::result::Result<(), String> {
+    let n = parse_i64(head).ok_or_else(|| {
+        format!(
+            "non-numeric token '{}' where the vertex count of face {f} was expected",
+            show(head)
+        )
+    })?;
+    if n < 3 {
+        return Err(format!("face {f} has {n} vertices (at least 3 needed)"));
+    }
+    corners.clear();
+    for k in 0..n {
+        let Some(token) = rest.next() else {
+            return Err(format!("face {f} lists {k} of its {n} vertex indices"));
+        };
+        let i = parse_i64(token).ok_or_else(|| {
+            format!(
+                "non-numeric token '{}' where a vertex index of face {f} was expected",
+                show(token)
+            )
+        })?;
+        if i < 0 || i as u64 >= vertex_count as u64 {
+            return Err(format!(
+                "face {f}: vertex index {i} out of range (the file has {vertex_count} vertices)"
+            ));
+        }
+        corners.push(i as u32);
+    }
+    Ok(())
 }
 
 /// Accepts the optional prefixes of the header keyword: `ST` (texture coordinates), `C`
@@ -302,6 +433,86 @@ mod tests {
         assert_eq!(
             with("3 0 one 2\n"),
             "t.off: line 6: non-numeric token 'one' where a vertex index of face 0 was expected"
+        );
+    }
+
+    /// A file with a comment, a blank line and a quad somewhere in the middle of its body.
+    fn grid_text(n: usize) -> String {
+        let mut text = format!("OFF\n{} {} 0\n", n * n, 2 * (n - 1) * (n - 1) - 1);
+        for i in 0..n * n {
+            if i == n {
+                text.push_str("# a comment\n\n");
+            }
+            text.push_str(&format!("{} {}.5 {}e-3\n", i % n, i / n, i));
+        }
+        for r in 0..n - 1 {
+            for c in 0..n - 1 {
+                let v = (r * n + c) as u32;
+                let w = v + n as u32;
+                if r == 1 && c == 1 {
+                    text.push_str(&format!("4 {v} {} {} {w} 255 0 0\n\n", v + 1, w + 1));
+                } else {
+                    text.push_str(&format!("3 {v} {} {w}\n3 {} {} {w}\n", v + 1, v + 1, w + 1));
+                }
+            }
+        }
+        text.push_str("trailing junk after the last face is ignored\n");
+        text
+    }
+
+    #[test]
+    fn pieces_of_any_size_parse_alike() {
+        let text = grid_text(12);
+        let source = Source::new(Path::new("t.off"));
+        let whole = parse_with_chunks(text.as_bytes(), source, usize::MAX / 2).unwrap();
+        assert_eq!(whole.positions.len(), 144);
+        assert_eq!(whole.faces.len(), 2 * 11 * 11);
+        assert_eq!(whole.positions[13], [1.0, 1.5, 13e-3]);
+        for chunk in [1, 2, 7, 30, 100, 1000] {
+            let parts = parse_with_chunks(text.as_bytes(), source, chunk).unwrap();
+            assert_eq!(parts.positions, whole.positions, "chunk {chunk}");
+            assert_eq!(parts.faces, whole.faces, "chunk {chunk}");
+        }
+    }
+
+    #[test]
+    fn errors_in_late_pieces_name_their_line_and_the_first_one_wins() {
+        let text = grid_text(12);
+        let lines: Vec<&str> = text.lines().collect();
+        // Header (2 lines), 12 vertices, comment + blank, 132 vertices, then the faces.
+        let bad_vertex = 2 + 12 + 2 + 100;
+        let bad_face = 2 + 144 + 2 + 50;
+        let mut broken: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+        broken[bad_vertex] = "1 2 x".into();
+        broken[bad_face] = "3 0 1 999".into();
+        let broken = broken.join("\n");
+        let source = Source::new(Path::new("t.off"));
+        for chunk in [1, 50, 100_000] {
+            let e = parse_with_chunks(broken.as_bytes(), source, chunk)
+                .unwrap_err()
+                .to_string();
+            assert_eq!(
+                e,
+                format!(
+                    "t.off: line {}: non-numeric token 'x' where the z coordinate of vertex 112 \
+                     was expected",
+                    bad_vertex + 1
+                ),
+                "chunk {chunk}"
+            );
+        }
+        let mut only_face: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+        only_face[bad_face] = "3 0 1 999".into();
+        let e = parse_with_chunks(only_face.join("\n").as_bytes(), source, 64)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            format!(
+                "t.off: line {}: face 49: vertex index 999 out of range (the file has 144 \
+                 vertices)",
+                bad_face + 1
+            )
         );
     }
 

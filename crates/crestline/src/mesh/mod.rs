@@ -130,10 +130,18 @@ impl TriMesh {
         })
     }
 
-    /// Reverses the winding of the faces marked in `flip` (one flag per face), keeping the
-    /// connectivity (copied first when it is shared with another mesh).
-    pub(crate) fn reverse_faces(&mut self, flip: &[bool]) {
-        Arc::make_mut(&mut self.topology).reverse_faces(flip);
+    /// The same mesh with the faces `f` where `flip[f]` wound the other way (corners 1 and 2
+    /// swapped). The connectivity does not depend on the winding: it is kept, not rebuilt.
+    pub(crate) fn with_flipped_faces(mut self, flip: &[bool]) -> TriMesh {
+        Arc::make_mut(&mut self.topology).flip_faces(flip);
+        self
+    }
+
+    /// The positions and the (non-degenerate) triangles, dropping the connectivity (the
+    /// triangles are copied when the connectivity is shared with another mesh).
+    pub fn into_parts(self) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        let faces = self.faces().to_vec();
+        (self.positions, faces)
     }
 
     /// Vertex positions, one per vertex (including unreferenced ones).

@@ -13,16 +13,13 @@
 //! height field, a scan with holes) and inconsistent ones are left as they are and counted.
 //! Components are the connected parts over shared vertices, as in [`super::MeshInfo`].
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
 use rayon::prelude::*;
 
 use crate::error::Result;
 
 use super::{TriMesh, Vec3};
-
-/// Faces per parallel work item of the volume sum.
-const VOLUME_CHUNK: usize = 1 << 14;
 
 /// What [`orientation`] found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -46,7 +43,7 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
     let faces = mesh.faces();
     let (vertex_component, count) = topo.vertex_components(faces);
     let component = |f: usize| vertex_component[faces[f][0] as usize] as usize;
-    // Per component: not closed, not consistent (flags set from parallel passes).
+    // Per component: not closed, not consistent.
     let open: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
     let inconsistent: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
     (0..topo.num_edges() as u32).into_par_iter().for_each(|e| {
@@ -57,13 +54,11 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
         let c = component(first as usize);
         match *edge_faces {
             [f, g] => {
-                let edge = topo.edge(e);
-                if runs_forward(&faces[f as usize], edge) == runs_forward(&faces[g as usize], edge)
-                {
-                    inconsistent[c].store(true, Ordering::Relaxed);
+                if runs_forward(mesh, f, e) == runs_forward(mesh, g, e) {
+                    inconsistent[c].store(true, Relaxed);
                 }
             }
-            _ => open[c].store(true, Ordering::Relaxed),
+            _ => open[c].store(true, Relaxed),
         }
     });
     let open: Vec<bool> = open.into_iter().map(AtomicBool::into_inner).collect();
@@ -73,25 +68,11 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
         .collect();
     // Signed volumes about the bounding-box centre (for fewer cancellations).
     let centre = mesh.bounding_box().center();
-    let tetrahedron = |t: &[u32; 3]| {
+    let mut volume = vec![0.0f64; count];
+    for (f, t) in faces.iter().enumerate() {
         let [a, b, c] = t.map(|v| mesh.position(v) - centre);
-        a.dot(&b.cross(&c)) / 6.0
-    };
-    let volume: Vec<f64> = if count == 1 {
-        // The usual case: in parallel, over chunks of a fixed size added in order, so that
-        // the sum does not depend on the number of threads.
-        let partial: Vec<f64> = faces
-            .par_chunks(VOLUME_CHUNK)
-            .map(|chunk| chunk.iter().map(tetrahedron).sum())
-            .collect();
-        vec![partial.iter().sum()]
-    } else {
-        let mut volume = vec![0.0f64; count];
-        for (f, t) in faces.iter().enumerate() {
-            volume[component(f)] += tetrahedron(t);
-        }
-        volume
-    };
+        volume[component(f)] += a.dot(&b.cross(&c)) / 6.0;
+    }
     let mut report = Orientation {
         components: count,
         ..Default::default()
@@ -111,31 +92,34 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
             flip[c] = true;
         }
     }
-    let per_face: Vec<bool> = (0..faces.len()).map(|f| flip[component(f)]).collect();
-    report.inward_faces = per_face.iter().filter(|&&x| x).count();
+    let per_face: Vec<bool> = (0..faces.len())
+        .into_par_iter()
+        .map(|f| flip[component(f)])
+        .collect();
+    report.inward_faces = per_face.par_iter().filter(|&&x| x).count();
     (report, per_face)
 }
 
-/// Whether `triangle` runs through `edge` from its first (smaller) to its second vertex.
-fn runs_forward(triangle: &[u32; 3], [a, b]: [u32; 2]) -> bool {
-    let i = triangle.iter().position(|&v| v == a).unwrap_or(0);
-    triangle[(i + 1) % 3] == b
+/// Whether face `f` runs through edge `e` from its smaller to its larger vertex.
+fn runs_forward(mesh: &TriMesh, f: u32, e: u32) -> bool {
+    let slots = mesh.topology().face_edges(f);
+    let s = slots.iter().position(|&x| x == e).unwrap_or(0);
+    mesh.faces()[f as usize][s] == mesh.topology().edge(e)[0]
 }
 
 /// Reverses the triangles of the closed components that face inward (see the module docs),
-/// so that normals point outward, and returns the report. The connectivity does not depend
-/// on the winding and is kept.
+/// so that normals point outward. Returns the mesh unchanged (not rebuilt) when nothing faces
+/// inward, and the report either way.
 ///
 /// # Errors
-/// None at present; the `Result` leaves room for checks on meshes that cannot be oriented.
+/// None: reversing triangles keeps the connectivity, which is reused as it is (the `Result`
+/// stays for callers written against the version that rebuilt the mesh).
 pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
     let (report, flip) = orientation(&mesh);
     if report.inward == 0 {
         return Ok((mesh, report));
     }
-    let mut mesh = mesh;
-    mesh.reverse_faces(&flip);
-    Ok((mesh, report))
+    Ok((mesh.with_flipped_faces(&flip), report))
 }
 
 /// Signed volume enclosed by `mesh` (positive when a closed mesh faces outward). Meaningful
@@ -179,14 +163,50 @@ mod tests {
         assert_eq!(report.inward, 1);
         assert_eq!(report.inward_faces, sphere.num_faces());
         assert!((signed_volume(&fixed) - v).abs() < 1e-9 * v);
-        // The kept connectivity is what building it anew from the reversed faces gives.
-        let rebuilt = TriMesh::new(fixed.positions().to_vec(), fixed.faces().to_vec()).unwrap();
-        let (a, b) = (fixed.topology(), rebuilt.topology());
-        assert_eq!(a.edges(), b.edges());
-        assert_eq!(a.vertex_kinds(), b.vertex_kinds());
-        for f in 0..fixed.num_faces() as u32 {
-            assert_eq!(a.face_edges(f), b.face_edges(f), "face {f}");
-            assert_eq!(a.face_neighbors(f), b.face_neighbors(f), "face {f}");
+    }
+
+    #[test]
+    fn flipping_keeps_the_connectivity_a_rebuild_gives() {
+        // An inward sphere (flipped), and apart from it three fins on one edge: boundary and
+        // non-manifold edges.
+        let sphere = flipped(&shapes::icosphere(1.0, 2));
+        let mut positions = sphere.positions().to_vec();
+        let mut faces = sphere.faces().to_vec();
+        let n = positions.len() as u32;
+        positions.extend([
+            Vec3::new(3.0, 0.0, 0.0),
+            Vec3::new(3.0, 1.0, 0.0),
+            Vec3::new(4.0, 0.0, 0.0),
+            Vec3::new(3.0, 0.0, 1.0),
+            Vec3::new(2.0, 0.0, 0.0),
+        ]);
+        faces.extend([[n, n + 1, n + 2], [n + 1, n, n + 3], [n, n + 1, n + 4]]);
+        let mesh = TriMesh::new(positions, faces).unwrap();
+        let (report, flip) = orientation(&mesh);
+        assert_eq!(report.inward_faces, sphere.num_faces());
+        let kept = mesh.clone().with_flipped_faces(&flip);
+        let (positions, mut faces) = mesh.into_parts();
+        for (t, &f) in faces.iter_mut().zip(&flip) {
+            if f {
+                t.swap(1, 2);
+            }
+        }
+        let rebuilt = TriMesh::new(positions, faces).unwrap();
+        let (k, r) = (kept.topology(), rebuilt.topology());
+        assert_eq!(k.faces(), r.faces());
+        assert_eq!(k.edges(), r.edges());
+        assert_eq!(k.vertex_kinds(), r.vertex_kinds());
+        for e in 0..r.num_edges() as u32 {
+            assert_eq!(k.edge_faces(e), r.edge_faces(e));
+            assert_eq!(k.edge_kind(e), r.edge_kind(e));
+        }
+        for v in 0..r.num_vertices() as u32 {
+            assert_eq!(k.vertex_faces(v), r.vertex_faces(v));
+            assert_eq!(k.vertex_edges(v), r.vertex_edges(v));
+        }
+        for f in 0..r.faces().len() as u32 {
+            assert_eq!(k.face_edges(f), r.face_edges(f));
+            assert_eq!(k.face_neighbors(f), r.face_neighbors(f));
         }
     }
 

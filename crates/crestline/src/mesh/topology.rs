@@ -90,13 +90,10 @@ impl Topology {
     /// [`Topology::faces`]).
     pub fn from_faces(num_vertices: usize, face_list: Vec<[u32; 3]>) -> Self {
         let faces = &face_list[..];
-        let (vertex_face_offsets, vertex_faces) = compressed_rows(
-            num_vertices,
-            faces
-                .iter()
-                .enumerate()
-                .flat_map(|(f, t)| t.map(|v| (v, f as u32))),
-        );
+        let (vertex_face_offsets, vertex_faces) =
+            parallel_compressed_rows(num_vertices, faces.len(), |f| {
+                faces[f].map(|v| (v, f as u32))
+            });
 
         // Edges are numbered vertex by vertex: the edges (v, w) with w > v, by increasing w.
         // Ids therefore follow the pair (smaller endpoint, larger endpoint), as a global sort
@@ -174,13 +171,11 @@ impl Topology {
 
         drop(edge_start);
 
-        let (vertex_edge_offsets, vertex_edges) = compressed_rows(
-            num_vertices,
-            edges
-                .iter()
-                .enumerate()
-                .flat_map(|(e, &[a, b])| [(a, e as u32), (b, e as u32)]),
-        );
+        let (vertex_edge_offsets, vertex_edges) =
+            parallel_compressed_rows(num_vertices, edges.len(), |e| {
+                let [a, b] = edges[e];
+                [(a, e as u32), (b, e as u32)]
+            });
 
         let mut topology = Topology {
             vertex_face_offsets,
@@ -199,6 +194,19 @@ impl Topology {
             .map(|v| topology.classify_vertex(v, &topology.faces))
             .collect();
         topology
+    }
+
+    /// Winds the faces `f` with `flip[f]` the other way (swaps their corners 1 and 2). Nothing
+    /// else changes: the connectivity does not depend on the winding.
+    pub(crate) fn flip_faces(&mut self, flip: &[bool]) {
+        self.faces
+            .par_iter_mut()
+            .zip(flip.par_iter())
+            .for_each(|(t, &flip)| {
+                if flip {
+                    t.swap(1, 2);
+                }
+            });
     }
 
     /// Number of vertices (including unreferenced ones).
@@ -268,17 +276,6 @@ impl Topology {
             }
         }
         None
-    }
-
-    /// Reverses the winding of the faces marked in `flip` (swaps their last two corners).
-    /// Nothing else here depends on the winding (faces per vertex and per edge are sets,
-    /// a face's edges are looked up from its corners), so the connectivity stays valid.
-    pub(crate) fn reverse_faces(&mut self, flip: &[bool]) {
-        self.faces.par_iter_mut().zip(flip).for_each(|(t, &flip)| {
-            if flip {
-                t.swap(1, 2);
-            }
-        });
     }
 
     /// The triangles the connectivity was built from.
@@ -670,6 +667,55 @@ pub(crate) fn split_rows<'a, T>(
     pieces
 }
 
+/// [`compressed_rows`] of the pairs of items `0..items` (`K` pairs each, values increasing
+/// with the item), built in parallel: rows are counted and filled through atomic cursors, then
+/// each row is sorted, which restores the order the sequential build gives.
+fn parallel_compressed_rows<const K: usize>(
+    rows: usize,
+    items: usize,
+    pairs_of: impl Fn(usize) -> [(u32, u32); K] + Sync,
+) -> (Vec<u32>, Vec<u32>) {
+    use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+    let cursors: Vec<AtomicU32> = (0..rows)
+        .into_par_iter()
+        .map(|_| AtomicU32::new(0))
+        .collect();
+    (0..items).into_par_iter().for_each(|i| {
+        for (r, _) in pairs_of(i) {
+            cursors[r as usize].fetch_add(1, Relaxed);
+        }
+    });
+    let counts: Vec<u32> = cursors.par_iter().map(|c| c.load(Relaxed)).collect();
+    let offsets = prefix_sums(&counts);
+    drop(counts);
+    cursors
+        .par_iter()
+        .zip(offsets.par_iter())
+        .for_each(|(c, &o)| c.store(o, Relaxed));
+    let slots: Vec<AtomicU32> = (0..offsets[rows] as usize)
+        .into_par_iter()
+        .map(|_| AtomicU32::new(0))
+        .collect();
+    (0..items).into_par_iter().for_each(|i| {
+        for (r, x) in pairs_of(i) {
+            let slot = cursors[r as usize].fetch_add(1, Relaxed);
+            slots[slot as usize].store(x, Relaxed);
+        }
+    });
+    drop(cursors);
+    let mut values: Vec<u32> = slots.into_iter().map(AtomicU32::into_inner).collect();
+    split_rows(&mut values, &offsets, ROW_BLOCK)
+        .into_par_iter()
+        .for_each(|(rows, piece)| {
+            let base = offsets[rows.start];
+            for r in rows {
+                piece[(offsets[r] - base) as usize..(offsets[r + 1] - base) as usize]
+                    .sort_unstable();
+            }
+        });
+    (offsets, values)
+}
+
 /// Compressed rows from (row, value) pairs: offsets of length `rows + 1` and values grouped by
 /// row, in the order the pairs came.
 fn compressed_rows(
@@ -788,6 +834,20 @@ mod tests {
 
     /// Edges, faces per edge and edges per face.
     type Reference = (Vec<[u32; 2]>, Vec<Vec<u32>>, Vec<[u32; 3]>);
+
+    #[test]
+    fn parallel_rows_match_the_sequential_ones() {
+        // Pseudo-random rows, several items per row, some rows empty.
+        let pairs_of = |i: usize| {
+            let h = (i as u32).wrapping_mul(2_654_435_761);
+            [(h % 997, i as u32), ((h >> 7) % 1000, i as u32)]
+        };
+        let items = 20_000;
+        let (offsets, values) = parallel_compressed_rows(1000, items, pairs_of);
+        let (o, v) = compressed_rows(1000, (0..items).flat_map(pairs_of));
+        assert_eq!(offsets, o);
+        assert_eq!(values, v);
+    }
 
     /// The connectivity built the slow, obvious way: all half-edges sorted by (smaller end,
     /// larger end, face).
