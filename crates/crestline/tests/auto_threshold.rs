@@ -12,28 +12,19 @@ mod common;
 
 use crestline::extract::{ExtractOptions, Extraction, Method, extract};
 use crestline::lines::FeatureLines;
-use crestline::mesh::face_normals;
 use crestline::spatial::PointGrid;
 use crestline::{TriMesh, Vec3, shapes};
 
 /// Fandisk from the shared meshes (the test fails when they are missing: CI has them).
-fn fandisk() -> Option<TriMesh> {
-    Some(common::load_shared("fandisk.obj"))
+fn fandisk() -> TriMesh {
+    common::load_shared("fandisk.obj")
 }
 
-/// Interior edges whose faces meet at more than `degrees`.
+/// Interior edges whose faces meet at more than `degrees`, by their endpoints.
 fn crease_edges(mesh: &TriMesh, degrees: f64) -> Vec<[u32; 2]> {
-    let normals = face_normals(mesh);
-    let topo = mesh.topology();
-    let cos = degrees.to_radians().cos();
-    topo.edges()
-        .iter()
-        .enumerate()
-        .filter(|&(e, _)| match topo.edge_faces(e as u32) {
-            [f, g] => normals[*f as usize].dot(&normals[*g as usize]) < cos,
-            _ => false,
-        })
-        .map(|(_, &edge)| edge)
+    common::sharp_edges(mesh, degrees)
+        .into_iter()
+        .map(|e| mesh.topology().edge(e))
         .collect()
 }
 
@@ -55,11 +46,11 @@ fn sample(segments: impl Iterator<Item = [Vec3; 2]>, step: f64) -> Vec<Vec3> {
 }
 
 fn line_segments(lines: &FeatureLines) -> impl Iterator<Item = [Vec3; 2]> + '_ {
-    lines.lines.iter().flat_map(|l| {
-        let n = l.points.len();
-        let segments = if l.closed { n } else { n.saturating_sub(1) };
-        (0..segments).map(move |i| [l.points[i], l.points[(i + 1) % n]])
-    })
+    lines
+        .lines
+        .iter()
+        .flat_map(|l| common::polyline_segments(&l.points, l.closed))
+        .map(|(a, b)| [a, b])
 }
 
 struct Fit {
@@ -109,8 +100,8 @@ fn run(mesh: &TriMesh, method: Method) -> Extraction {
 /// Runs `options` with the automatic threshold on fandisk and checks the lines against its
 /// creases: coverage at least 0.9, at most `max_flat` of the line length on flat faces, line
 /// length at most 1.5 times the crease length. Returns the fit.
-fn check_fandisk(name: &str, options: &ExtractOptions, max_flat: f64) -> Option<Fit> {
-    let mesh = fandisk()?;
+fn check_fandisk(name: &str, options: &ExtractOptions, max_flat: f64) -> Fit {
+    let mesh = fandisk();
     let options = ExtractOptions {
         auto_threshold: true,
         ..options.clone()
@@ -138,17 +129,17 @@ fn check_fandisk(name: &str, options: &ExtractOptions, max_flat: f64) -> Option<
         "{name}: lines {:.2} times as long as the creases",
         f.length_ratio
     );
-    Some(f)
+    f
 }
 
 /// The fit of `options` with the fixed threshold (the floor of the automatic one).
-fn fixed_fit(options: &ExtractOptions) -> Option<Fit> {
-    let mesh = fandisk()?;
+fn fixed_fit(options: &ExtractOptions) -> Fit {
+    let mesh = fandisk();
     let options = ExtractOptions {
         auto_threshold: false,
         ..options.clone()
     };
-    Some(fit(&mesh, &extract(&mesh, &options).unwrap().lines))
+    fit(&mesh, &extract(&mesh, &options).unwrap().lines)
 }
 
 #[test]
@@ -158,12 +149,8 @@ fn ybs_automatic_threshold_keeps_fandisks_creases() {
     // coverage 0.987, flat 0.027, length ratio 1.08).
     let mut published = ExtractOptions::for_method(Method::Ybs);
     published.smoothing.steps = 0;
-    let (Some(auto), Some(fixed)) = (
-        check_fandisk("YBS as published", &published, 0.05),
-        fixed_fit(&published),
-    ) else {
-        return;
-    };
+    let auto = check_fandisk("YBS as published", &published, 0.05);
+    let fixed = fixed_fit(&published);
     assert!(
         auto.flat < 0.75 * fixed.flat,
         "the knee dropped no flat-face line"
@@ -173,10 +160,8 @@ fn ybs_automatic_threshold_keeps_fandisks_creases() {
     // has less to drop (measured: T = 1.19, coverage 0.967, flat 0.051 against 0.064 with
     // T >= 1); it must not lose creases for it.
     let default = ExtractOptions::for_method(Method::Ybs);
-    let (Some(auto), Some(fixed)) = (check_fandisk("YBS", &default, 0.06), fixed_fit(&default))
-    else {
-        return;
-    };
+    let auto = check_fandisk("YBS", &default, 0.06);
+    let fixed = fixed_fit(&default);
     assert!(auto.flat <= fixed.flat);
     assert!(auto.coverage >= fixed.coverage - 0.01);
 }
@@ -194,7 +179,7 @@ fn saliency_automatic_threshold_keeps_fandisks_creases() {
 #[test]
 fn saliency_knee_separates_fandisks_crease_vertices_from_its_flat_ones() {
     // The threshold itself, before any linking: vertices above it are feature points.
-    let Some(mesh) = fandisk() else { return };
+    let mesh = fandisk();
     let options = ExtractOptions::for_method(Method::Saliency);
     let curvature = crestline::curvature::estimate(&mesh, &options.curvature).unwrap();
     let s = crestline::saliency::mesh_saliency(&mesh, &curvature, &options.saliency).unwrap();

@@ -44,14 +44,11 @@ fn creases(mesh: &TriMesh) -> Vec<Crease> {
     };
     // (edge, convex) of every crease edge.
     let mut sharp = Vec::new();
-    for e in 0..topo.num_edges() as u32 {
+    for e in common::sharp_edges(mesh, CREASE_DEGREES) {
         let &[f, g] = topo.edge_faces(e) else {
             continue;
         };
-        let (nf, ng) = (normal(f), normal(g));
-        if nf.dot(&ng).clamp(-1.0, 1.0).acos().to_degrees() < CREASE_DEGREES {
-            continue;
-        }
+        let nf = normal(f);
         // Convex when g's far corner lies below f's plane.
         let [p, q] = topo.edge(e);
         let far = mesh.faces()[g as usize]

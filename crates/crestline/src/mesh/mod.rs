@@ -137,13 +137,6 @@ impl TriMesh {
         self
     }
 
-    /// The positions and the (non-degenerate) triangles, dropping the connectivity (the
-    /// triangles are copied when the connectivity is shared with another mesh).
-    pub fn into_parts(self) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-        let faces = self.faces().to_vec();
-        (self.positions, faces)
-    }
-
     /// Vertex positions, one per vertex (including unreferenced ones).
     pub fn positions(&self) -> &[Vec3] {
         &self.positions

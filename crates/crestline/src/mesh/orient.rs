@@ -54,7 +54,9 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
         let c = component(first as usize);
         match *edge_faces {
             [f, g] => {
-                if runs_forward(mesh, f, e) == runs_forward(mesh, g, e) {
+                let edge = topo.edge(e);
+                if runs_forward(&faces[f as usize], edge) == runs_forward(&faces[g as usize], edge)
+                {
                     inconsistent[c].store(true, Relaxed);
                 }
             }
@@ -70,8 +72,7 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
     let centre = mesh.bounding_box().center();
     let mut volume = vec![0.0f64; count];
     for (f, t) in faces.iter().enumerate() {
-        let [a, b, c] = t.map(|v| mesh.position(v) - centre);
-        volume[component(f)] += a.dot(&b.cross(&c)) / 6.0;
+        volume[component(f)] += tetrahedron_volume(mesh, centre, t);
     }
     let mut report = Orientation {
         components: count,
@@ -100,11 +101,18 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
     (report, per_face)
 }
 
-/// Whether face `f` runs through edge `e` from its smaller to its larger vertex.
-fn runs_forward(mesh: &TriMesh, f: u32, e: u32) -> bool {
-    let slots = mesh.topology().face_edges(f);
-    let s = slots.iter().position(|&x| x == e).unwrap_or(0);
-    mesh.faces()[f as usize][s] == mesh.topology().edge(e)[0]
+/// Whether `triangle` runs through `edge` from its first (smaller) to its second vertex. Read
+/// off the corners: cheaper than looking up the triangle's edges.
+fn runs_forward(triangle: &[u32; 3], [a, b]: [u32; 2]) -> bool {
+    let i = triangle.iter().position(|&v| v == a).unwrap_or(0);
+    triangle[(i + 1) % 3] == b
+}
+
+/// Signed volume of the tetrahedron of `triangle` and `centre` (positive when the triangle
+/// faces away from `centre`).
+fn tetrahedron_volume(mesh: &TriMesh, centre: Vec3, triangle: &[u32; 3]) -> f64 {
+    let [a, b, c] = triangle.map(|v| mesh.position(v) - centre);
+    a.dot(&b.cross(&c)) / 6.0
 }
 
 /// Reverses the triangles of the closed components that face inward (see the module docs),
@@ -112,8 +120,8 @@ fn runs_forward(mesh: &TriMesh, f: u32, e: u32) -> bool {
 /// inward, and the report either way.
 ///
 /// # Errors
-/// None: reversing triangles keeps the connectivity, which is reused as it is (the `Result`
-/// stays for callers written against the version that rebuilt the mesh).
+/// None at present (reversing triangles keeps the connectivity as it is); the `Result` leaves
+/// room for meshes that cannot be oriented.
 pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
     let (report, flip) = orientation(&mesh);
     if report.inward == 0 {
@@ -128,10 +136,7 @@ pub fn signed_volume(mesh: &TriMesh) -> f64 {
     let centre = mesh.bounding_box().center();
     mesh.faces()
         .iter()
-        .map(|t| {
-            let [a, b, c]: [Vec3; 3] = t.map(|v| mesh.position(v) - centre);
-            a.dot(&b.cross(&c)) / 6.0
-        })
+        .map(|t| tetrahedron_volume(mesh, centre, t))
         .sum()
 }
 
@@ -185,13 +190,13 @@ mod tests {
         let (report, flip) = orientation(&mesh);
         assert_eq!(report.inward_faces, sphere.num_faces());
         let kept = mesh.clone().with_flipped_faces(&flip);
-        let (positions, mut faces) = mesh.into_parts();
+        let mut faces = mesh.faces().to_vec();
         for (t, &f) in faces.iter_mut().zip(&flip) {
             if f {
                 t.swap(1, 2);
             }
         }
-        let rebuilt = TriMesh::new(positions, faces).unwrap();
+        let rebuilt = TriMesh::new(mesh.positions().to_vec(), faces).unwrap();
         let (k, r) = (kept.topology(), rebuilt.topology());
         assert_eq!(k.faces(), r.faces());
         assert_eq!(k.edges(), r.edges());

@@ -61,6 +61,20 @@ pub fn load_shared(name: &str) -> TriMesh {
     crestline::io::read_mesh(&path, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// Interior edges whose two faces meet at a dihedral angle (between their normals) above
+/// `degrees`: a CAD mesh's sharp creases.
+pub fn sharp_edges(mesh: &TriMesh, degrees: f64) -> Vec<u32> {
+    let normals = crestline::mesh::face_normals(mesh);
+    let topo = mesh.topology();
+    let cos = degrees.to_radians().cos();
+    (0..topo.num_edges() as u32)
+        .filter(|&e| match *topo.edge_faces(e) {
+            [f, g] => normals[f as usize].dot(&normals[g as usize]) < cos,
+            _ => false,
+        })
+        .collect()
+}
+
 /// Distance from `p` to the segment `ab`.
 pub fn point_segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
     let ab = b - a;
