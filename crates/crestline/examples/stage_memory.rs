@@ -1,4 +1,5 @@
-//! Where time and memory go in `extract`: wall time, resident memory after every step, the
+//! Where time and memory go in `extract`: wall time, CPU time (all threads; steadier than wall
+//! time on a shared machine), resident memory after every step, the
 //! peak within the step and the peak so far (Linux `/proc/self/status`; the high-water mark is
 //! reset at the start of each step through `/proc/self/clear_refs`), plus the bytes held by the
 //! mesh itself. Used for the CGAL comparison in `BENCHMARKS.md`.
@@ -25,26 +26,56 @@ fn memory() -> Option<(u64, u64)> {
     Some((field("VmRSS:")?, field("VmHWM:")?))
 }
 
+/// CPU time of the process so far (user + system, all threads), in seconds, from
+/// `/proc/self/stat` (clock ticks of 1/100 s). On a shared machine this moves less with
+/// the load than wall time does.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name (which is in parentheses and may hold spaces).
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |i: usize| fields.get(i)?.parse::<f64>().ok();
+    // utime and stime are fields 14 and 15 of the line; `rest` starts at field 3.
+    Some((ticks(11)? + ticks(12)?) / 100.0)
+}
+
 /// Resets the high-water mark to the current resident size (Linux 4.0 and later; ignored
 /// where it is not supported, and the step peak is then the peak so far).
 fn reset_peak() {
     let _ = std::fs::write("/proc/self/clear_refs", "5");
 }
 
-/// Prints one row; `overall` carries the peak over all steps so far.
-fn row(label: &str, seconds: f64, faces: usize, overall: &mut u64) {
+/// What the rows carry over: the peak over all steps so far and the CPU time at the end of
+/// the last step.
+struct Totals {
+    peak: u64,
+    cpu: f64,
+}
+
+/// Prints one row.
+fn row(label: &str, seconds: f64, faces: usize, totals: &mut Totals) {
+    let cpu = cpu_seconds().unwrap_or(f64::NAN);
+    let step_cpu = cpu - totals.cpu;
+    totals.cpu = cpu;
+    let overall = &mut totals.peak;
     match memory() {
         Some((rss, hwm)) => {
             *overall = (*overall).max(hwm);
+            // Not known yet while the file is read.
+            let per_face = if faces > 0 {
+                format!("{:.0}", *overall as f64 / faces as f64)
+            } else {
+                "–".into()
+            };
             println!(
-                "| {label} | {seconds:.3} | {:.1} | {:.1} | {:.1} | {:.0} |",
+                "| {label} | {seconds:.3} | {step_cpu:.2} | {:.1} | {:.1} | {:.1} | {} |",
                 rss as f64 / 1e6,
                 hwm as f64 / 1e6,
                 *overall as f64 / 1e6,
-                *overall as f64 / faces as f64
+                per_face
             );
         }
-        None => println!("| {label} | {seconds:.3} | n/a | n/a | n/a | n/a |"),
+        None => println!("| {label} | {seconds:.3} | {step_cpu:.2} | n/a | n/a | n/a | n/a |"),
     }
     reset_peak();
 }
@@ -82,21 +113,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
 
     println!(
-        "| step | seconds | RSS after, MB | peak in step, MB | peak so far, MB | peak bytes/face |"
+        "| step | seconds | CPU seconds | RSS after, MB | peak in step, MB | peak so far, MB | peak bytes/face |"
     );
-    println!("| --- | ---: | ---: | ---: | ---: | ---: |");
-    let mut overall = 0;
+    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+    let mut overall = Totals {
+        peak: 0,
+        cpu: cpu_seconds().unwrap_or(f64::NAN),
+    };
     reset_peak();
     // Reading is split as `crestline::io::read_mesh` does it: file bytes, parse, TriMesh (the
     // degenerate-face check and the connectivity).
     let start = Instant::now();
     let bytes = std::fs::read(&path)?;
     let read_time = start.elapsed().as_secs_f64();
+    row("read file", read_time, 0, &mut overall);
     let start = Instant::now();
     let data = crestline::io::parse_mesh_bytes(&bytes, Format::resolve(&path, None)?, &path)?;
     let faces = data.faces.len();
     let parse_time = start.elapsed().as_secs_f64();
-    row("read file", read_time, faces, &mut overall);
     drop(bytes);
     row(
         "parse (file bytes then freed)",

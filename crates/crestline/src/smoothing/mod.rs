@@ -30,7 +30,9 @@ use crate::error::Result;
 use crate::mesh::{TriMesh, Vec3};
 
 pub use cholesky::{CholeskySystem, DiffusionPattern};
-pub use conjugate_gradient::{ConjugateGradientOptions, ConnectionSystem, Preconditioner};
+pub use conjugate_gradient::{
+    ConjugateGradientOptions, ConnectionSystem, Preconditioner, round_weights,
+};
 
 /// Cap on the magnitude of one cotangent (an angle of about 0.06°).
 pub const MAX_COT: f64 = 1e3;
@@ -135,6 +137,10 @@ enum Solver<'m> {
 impl<'m> DiffusionOperator<'m> {
     /// Prepares `M + t L_σ`.
     ///
+    /// The weights are rounded to single precision first (a relative change below 6e-8),
+    /// the precision the conjugate-gradient rows store them in, so that every solver solves
+    /// the same system.
+    ///
     /// `weights` are per-edge non-negative diffusion weights (cotan weights, possibly scaled
     /// by local factors), `mass` the lumped mass, `time` the step `t` (in units of area) and
     /// `flips` one entry per field: the edges where `σ = −1` (`None`: `σ = +1` everywhere).
@@ -144,12 +150,13 @@ impl<'m> DiffusionOperator<'m> {
     /// [`crate::Error::Solver`] when a Cholesky factorisation fails.
     pub fn new(
         mesh: &'m TriMesh,
-        weights: Vec<f64>,
+        mut weights: Vec<f64>,
         mass: Vec<f64>,
         time: f64,
         flips: &[Option<&[bool]>],
         solver: LinearSolver,
     ) -> Result<Self> {
+        round_weights(&mut weights);
         let solver = match solver {
             LinearSolver::ConjugateGradient(options) => Solver::ConjugateGradient(
                 ConnectionSystem::new(mesh.topology(), weights, mass, time, flips, options)?,
@@ -166,7 +173,8 @@ impl<'m> DiffusionOperator<'m> {
     ///
     /// # Errors
     /// As [`DiffusionOperator::new`].
-    pub fn update(&mut self, weights: Vec<f64>, mass: Vec<f64>, time: f64) -> Result<()> {
+    pub fn update(&mut self, mut weights: Vec<f64>, mass: Vec<f64>, time: f64) -> Result<()> {
+        round_weights(&mut weights);
         match &mut self.solver {
             Solver::ConjugateGradient(s) => s.update(weights, mass, time),
             Solver::Cholesky(s) => s.update(&weights, mass, time),
