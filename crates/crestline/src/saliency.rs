@@ -412,9 +412,9 @@ impl<const L: usize> Sums<L> {
             let w = self.add(&a, &c);
             for (&t, w) in t.iter().zip(&w) {
                 let sums = &mut window[t as usize];
-                for k in 0..L {
-                    sums.num[k] += w[k] * cs;
-                    sums.den[k] += w[k];
+                for ((num, den), &w) in sums.num.iter_mut().zip(&mut sums.den).zip(w) {
+                    *num += w * cs;
+                    *den += w;
                 }
             }
         }
