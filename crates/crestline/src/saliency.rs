@@ -7,8 +7,10 @@
 //! `S = 0.4 Curv + 0.6 Var` (eq. 5).
 //!
 //! Neighbourhoods come from a uniform grid ([`crate::spatial::PointGrid`]) queried once per
-//! vertex at the largest radius; all scales are accumulated in that one pass. Unreferenced
-//! vertices take no part (their saliency is 0).
+//! vertex at the largest radius; all scales are accumulated in that one pass, and each pair
+//! of vertices is weighted once (the Gaussian weight is symmetric) for both its ends, in an
+//! order that does not depend on the number of threads. Unreferenced vertices take no part
+//! (their saliency is 0).
 //!
 //! Distances are Euclidean, as in Lee et al.; across thin parts (a finger, the ear of a
 //! bunny) neighbourhoods may include the other side.
@@ -118,119 +120,209 @@ pub fn mesh_saliency(
 }
 
 /// `Var(p)` (eq. 8) of every vertex, with `G` at scales `σ_K = K σ`, `K = 1..=scales + 1`.
-///
-/// The referenced vertices are bucketed into a grid of cells of half the largest
-/// radius (`2 σ_{n+1}`) and processed in cell order, with their coordinates and `Curv`
-/// copied into that order (one array each), so each query reads its neighbours from
-/// contiguous memory. A neighbour counts at scale `K` when `d ≤ 2 σ_K`; the weights of all
-/// scales come from one exponential (`Gaussians`) and are accumulated without branches in
-/// [`LANES`] independent sums per scale, on the stack: no allocation per vertex.
 fn variation(mesh: &TriMesh, curv: &[f64], sigma: f64, scales: usize) -> Vec<f64> {
+    match scales + 1 {
+        2 => variation_with::<2>(mesh, curv, sigma),
+        3 => variation_with::<3>(mesh, curv, sigma),
+        4 => variation_with::<4>(mesh, curv, sigma),
+        _ => variation_with::<5>(mesh, curv, sigma),
+    }
+}
+
+/// Layers of cells a task may write to: its own and the next three (see [`variation_with`]).
+const WINDOW_LAYERS: usize = 4;
+
+/// `Var(p)` with `L` scales.
+///
+/// The referenced vertices are bucketed into a grid of cells of half the largest radius
+/// (`r = 2 σ_L`), with the longest axis of the bounding box as the grid's z, and their
+/// coordinates and `Curv` are copied into the grid's slot order (one array each), so each
+/// query reads its neighbours from contiguous memory.
+///
+/// Each pair of vertices is weighted once: the vertex in slot `s` takes the neighbours in
+/// slots `t > s`; its own sums stay in registers and the same weights are added to the
+/// sums of `t` in memory. A neighbour within `r` of a vertex in layer `k` of cells lies in
+/// layers `k − 2 ..= k + 2` (`k + 3` at worst by rounding; cells are at least `r/2` wide), so
+/// layer `k` writes only to layers `k ..= k + 3` (the runs are clipped there, which drops
+/// only points more than `1.5 r` away). The layers are processed in
+/// [`WINDOW_LAYERS`] phases, `k mod 4` at a time: within a phase the tasks write to disjoint
+/// windows and run in parallel, and every sum receives its terms in the same order whatever
+/// the number of threads. The result does not depend on it.
+fn variation_with<const L: usize>(mesh: &TriMesh, curv: &[f64], sigma: f64) -> Vec<f64> {
     let topo = mesh.topology();
-    let levels = scales + 1;
+    let positions = mesh.positions();
     let referenced: Vec<u32> = (0..mesh.num_vertices() as u32)
         .filter(|&v| !topo.vertex_faces(v).is_empty())
         .collect();
+    // The longest axis last: the most layers of cells, so the most tasks per phase.
+    let bbox = mesh.bounding_box();
+    let extent = |k: usize| bbox.max[k] - bbox.min[k];
+    let longest = (0..3)
+        .max_by(|&a, &b| extent(a).total_cmp(&extent(b)))
+        .unwrap_or(2);
+    let axes = match longest {
+        0 => [1, 2, 0],
+        1 => [2, 0, 1],
+        _ => [0, 1, 2],
+    };
+    // Scaled by 1/(√2 σ), so that a squared distance is `a = d²/(2σ²)` directly.
+    let scale = 1.0 / (std::f64::consts::SQRT_2 * sigma);
     let points: Vec<Vec3> = referenced
         .iter()
-        .map(|&v| mesh.positions()[v as usize])
+        .map(|&v| {
+            let p = positions[v as usize];
+            Vec3::new(p[axes[0]], p[axes[1]], p[axes[2]]) * scale
+        })
         .collect();
-    let radius = 2.0 * sigma * levels as f64;
+    // 2 σ_L, scaled.
+    let radius = std::f64::consts::SQRT_2 * L as f64;
     // Cells of r/2: on igea a query scans 1.8 times the points within r, in 17 runs of
     // cells (cells of r: 2.8 times, in 7 runs; r/3: 1.5 times, in 30 runs) — the fastest
     // of the three, measured.
     let grid = PointGrid::new(&points, radius / 2.0);
-    // Slot j of the grid holds vertex vertex_of[j].
-    let vertex_of: Vec<u32> = grid
-        .order()
-        .iter()
-        .map(|&i| referenced[i as usize])
-        .collect();
-    let column = |f: &dyn Fn(u32) -> f64| -> Vec<f64> { vertex_of.iter().map(|&v| f(v)).collect() };
-    let positions = mesh.positions();
+    let order = grid.order();
+    let column =
+        |f: &dyn Fn(usize) -> f64| -> Vec<f64> { order.iter().map(|&i| f(i as usize)).collect() };
     let neighbourhood = Neighbourhood {
         grid: &grid,
-        x: column(&|v| positions[v as usize].x),
-        y: column(&|v| positions[v as usize].y),
-        z: column(&|v| positions[v as usize].z),
-        curv: column(&|v| curv[v as usize]),
+        x: column(&|i| points[i].x),
+        y: column(&|i| points[i].y),
+        z: column(&|i| points[i].z),
+        curv: column(&|i| curv[referenced[i] as usize]),
         radius,
-        inv_two_sigma2: 1.0 / (2.0 * sigma * sigma),
     };
-    let var_at = |p: Vec3| match levels {
-        2 => neighbourhood.variation::<2>(p),
-        3 => neighbourhood.variation::<3>(p),
-        4 => neighbourhood.variation::<4>(p),
-        _ => neighbourhood.variation::<5>(p),
-    };
-    let var_sorted: Vec<f64> = vertex_of
-        .par_iter()
-        .map(|&v| var_at(positions[v as usize]))
-        .collect();
+    let layers = grid.layer_offsets();
+    let num_layers = layers.len() - 1;
+    let mut sums = vec![Totals::<L>::default(); order.len()];
+    for phase in 0..WINDOW_LAYERS.min(num_layers) {
+        // Split the sums into the windows of layers phase, phase + 4, ...
+        let mut tasks = Vec::new();
+        let (_, mut rest) = sums.split_at_mut(layers[phase]);
+        for k in (phase..num_layers).step_by(WINDOW_LAYERS) {
+            let end = layers[(k + WINDOW_LAYERS).min(num_layers)];
+            let (window, tail) = rest.split_at_mut(end - layers[k]);
+            tasks.push((k, window));
+            rest = tail;
+        }
+        tasks.into_par_iter().for_each(|(k, window)| {
+            let mut batch = Batch::default();
+            for s in layers[k]..layers[k + 1] {
+                neighbourhood.accumulate(s, layers[k], window, &mut batch);
+            }
+        });
+    }
     let mut var = vec![0.0; mesh.num_vertices()];
-    for (&v, x) in vertex_of.iter().zip(var_sorted) {
-        var[v as usize] = x;
+    let var_sorted: Vec<f64> = sums.par_iter().map(Totals::variation).collect();
+    for (&i, x) in order.iter().zip(var_sorted) {
+        var[referenced[i as usize] as usize] = x;
     }
     var
 }
 
-/// Independent partial sums per scale in the inner loop of [`Neighbourhood::variation`].
+/// Independent partial sums per scale in the inner loop of [`Neighbourhood::accumulate`].
 const LANES: usize = 4;
 
 /// What a vertex's multi-scale averages read: the grid and, in its slot order, the
-/// coordinates and `Curv` of the referenced vertices.
+/// coordinates (scaled by `1/(√2 σ)`) and `Curv` of the referenced vertices.
 struct Neighbourhood<'a> {
     grid: &'a PointGrid,
     x: Vec<f64>,
     y: Vec<f64>,
     z: Vec<f64>,
     curv: Vec<f64>,
+    /// `2 σ_L`, scaled.
     radius: f64,
-    inv_two_sigma2: f64,
 }
 
 /// Neighbours within reach collected before their weights are computed, [`LANES`] at a
 /// time (a power of two, a multiple of [`LANES`]).
 const BATCH: usize = 64;
 
+/// Neighbours within reach, compacted: `a = d²/(2σ²)`, `Curv`, and the slot relative to the
+/// window. Room for a full batch plus one more chunk of candidates. One per task, reused by
+/// its vertices.
+struct Batch {
+    a: [f64; 2 * BATCH],
+    c: [f64; 2 * BATCH],
+    t: [u32; 2 * BATCH],
+    n: usize,
+}
+
+impl Default for Batch {
+    fn default() -> Self {
+        Batch {
+            a: [0.0; 2 * BATCH],
+            c: [0.0; 2 * BATCH],
+            t: [0; 2 * BATCH],
+            n: 0,
+        }
+    }
+}
+
 impl Neighbourhood<'_> {
-    /// `Var(p) = Σ_{K=1}^{L-1} |G(p, K+1) − G(p, K)|` with `L` scales.
-    ///
-    /// The grid hands over runs of candidates (about twice as many as lie within reach);
-    /// they are compacted without branches into a batch of the neighbours within the
-    /// largest radius, and only those get weights.
-    fn variation<const L: usize>(&self, p: Vec3) -> f64 {
+    /// Adds the pairs of slot `s` with the slots `t > s` within reach to both ends' sums,
+    /// and the pair `(s, s)`. `window` holds the sums of slots `base..`, `s` among them.
+    fn accumulate<const L: usize>(
+        &self,
+        s: usize,
+        base: usize,
+        window: &mut [Totals<L>],
+        batch: &mut Batch,
+    ) {
         let reach = Gaussians::<L>::REACH[L - 1];
-        let mut sums = Sums::<L>::default();
-        // Room for a full batch plus one more chunk of candidates.
-        let mut a_in = [0.0f64; 2 * BATCH];
-        let mut c_in = [0.0f64; 2 * BATCH];
-        let mut n = 0;
-        self.grid.for_each_run_near(p, self.radius, |run| {
-            let mut start = run.start;
-            while start < run.end {
-                let end = (start + BATCH).min(run.end);
-                n = self.within_reach(p, reach, start..end, &mut a_in, &mut c_in, n);
-                if n >= BATCH {
-                    sums.add_batch(&a_in[..BATCH], &c_in[..BATCH]);
-                    a_in.copy_within(BATCH..n, 0);
-                    c_in.copy_within(BATCH..n, 0);
-                    n -= BATCH;
+        let p = Vec3::new(self.x[s], self.y[s], self.z[s]);
+        let cs = self.curv[s];
+        let window_end = base + window.len();
+        let mut lanes = Sums::<L>::default();
+        batch.n = 0;
+        self.grid
+            .for_each_run_near_after(p, self.radius, s + 1, |run| {
+                // The window holds all the later slots within reach.
+                let mut start = run.start;
+                let run_end = run.end.min(window_end);
+                while start < run_end {
+                    let end = (start + BATCH).min(run_end);
+                    self.within_reach(p, reach, start..end, base, batch);
+                    if batch.n >= BATCH {
+                        lanes.add_batch(
+                            &batch.a[..BATCH],
+                            &batch.c[..BATCH],
+                            &batch.t[..BATCH],
+                            cs,
+                            window,
+                        );
+                        batch.a.copy_within(BATCH..batch.n, 0);
+                        batch.c.copy_within(BATCH..batch.n, 0);
+                        batch.t.copy_within(BATCH..batch.n, 0);
+                        batch.n -= BATCH;
+                    }
+                    start = end;
                 }
-                start = end;
-            }
-        });
-        // The last partial batch: lanes past the last neighbour get weight 0.
-        a_in[n..].fill(f64::INFINITY);
+            });
+        // The last partial batch: lanes past the last neighbour get weight 0 and add it to
+        // `s` (whose sums are its own even if `Curv` is not finite).
+        let n = batch.n;
         let full = n.next_multiple_of(LANES);
-        sums.add_batch(&a_in[..full], &c_in[..full]);
-        // The vertex itself is within reach at every scale, so den > 0.
-        let g = |k: usize| sums.num[k].iter().sum::<f64>() / sums.den[k].iter().sum::<f64>();
-        (0..L - 1).map(|k| (g(k + 1) - g(k)).abs()).sum()
+        batch.a[n..full].fill(f64::INFINITY);
+        batch.c[n..full].fill(0.0);
+        batch.t[n..full].fill((s - base) as u32);
+        lanes.add_batch(
+            &batch.a[..full],
+            &batch.c[..full],
+            &batch.t[..full],
+            cs,
+            window,
+        );
+        // The pair (s, s) has weight 1 at every scale.
+        let own = &mut window[s - base];
+        for k in 0..L {
+            own.num[k] += lanes.num[k].iter().sum::<f64>() + cs;
+            own.den[k] += lanes.den[k].iter().sum::<f64>() + 1.0;
+        }
     }
 
-    /// Appends to `a_out, c_out` (from `n < BATCH` on) the candidates in `slots` (at most
-    /// [`BATCH`]) with `a = d²/(2σ²) ≤ reach`, without branches; returns the new count.
+    /// Appends to `batch` (from `batch.n < BATCH` on) the candidates in `slots` (at most
+    /// [`BATCH`]) with `a = d²/(2σ²) ≤ reach`, without branches.
     /// Not inlined: as a small function of its own its loop keeps everything in registers.
     #[inline(never)]
     fn within_reach(
@@ -238,26 +330,54 @@ impl Neighbourhood<'_> {
         p: Vec3,
         reach: f64,
         slots: std::ops::Range<usize>,
-        a_out: &mut [f64; 2 * BATCH],
-        c_out: &mut [f64; 2 * BATCH],
-        mut n: usize,
-    ) -> usize {
+        base: usize,
+        batch: &mut Batch,
+    ) {
+        let first = (slots.start - base) as u32;
         let (x, y, z, c) = (
             &self.x[slots.clone()],
             &self.y[slots.clone()],
             &self.z[slots.clone()],
             &self.curv[slots],
         );
+        let mut n = batch.n;
         for i in 0..x.len().min(y.len()).min(z.len()).min(c.len()) {
             let (dx, dy, dz) = (x[i] - p.x, y[i] - p.y, z[i] - p.z);
-            let a = (dx * dx + dy * dy + dz * dz) * self.inv_two_sigma2;
+            let a = dx * dx + dy * dy + dz * dz;
             // n < 2 BATCH (n starts below BATCH, grows by at most BATCH), so the mask
             // changes nothing but the bounds check.
-            a_out[n & (2 * BATCH - 1)] = a;
-            c_out[n & (2 * BATCH - 1)] = c[i];
+            batch.a[n & (2 * BATCH - 1)] = a;
+            batch.c[n & (2 * BATCH - 1)] = c[i];
+            batch.t[n & (2 * BATCH - 1)] = first + i as u32;
             n += usize::from(a <= reach);
         }
-        n
+        batch.n = n;
+    }
+}
+
+/// A vertex's sums of `w · Curv` and of `w` per scale (eq. 6), over all its pairs.
+#[derive(Debug, Clone, Copy)]
+#[repr(align(64))]
+struct Totals<const L: usize> {
+    num: [f64; L],
+    den: [f64; L],
+}
+
+impl<const L: usize> Default for Totals<L> {
+    fn default() -> Self {
+        Totals {
+            num: [0.0; L],
+            den: [0.0; L],
+        }
+    }
+}
+
+impl<const L: usize> Totals<L> {
+    /// `Var = Σ_{K=1}^{L-1} |G(K+1) − G(K)|`. Every vertex is within reach of itself at
+    /// every scale, so `den > 0`.
+    fn variation(&self) -> f64 {
+        let g = |k: usize| self.num[k] / self.den[k];
+        (0..L - 1).map(|k| (g(k + 1) - g(k)).abs()).sum()
     }
 }
 
@@ -278,20 +398,34 @@ impl<const L: usize> Default for Sums<L> {
 }
 
 impl<const L: usize> Sums<L> {
-    /// Adds the neighbours `a[i], c[i]`; `a.len()` is a multiple of [`LANES`].
+    /// Adds the pairs `(s, t[i])` with `a[i], c[i]` (`a.len()` a multiple of [`LANES`]) to
+    /// these sums of `s` and to the sums of `t[i]` in `window`, `cs` being `Curv` at `s`.
     #[inline(always)]
-    fn add_batch(&mut self, a: &[f64], c: &[f64]) {
-        for (a, c) in a.chunks_exact(LANES).zip(c.chunks_exact(LANES)) {
+    fn add_batch(&mut self, a: &[f64], c: &[f64], t: &[u32], cs: f64, window: &mut [Totals<L>]) {
+        for ((a, c), t) in a
+            .chunks_exact(LANES)
+            .zip(c.chunks_exact(LANES))
+            .zip(t.chunks_exact(LANES))
+        {
             let a: [f64; LANES] = std::array::from_fn(|l| a[l]);
             let c: [f64; LANES] = std::array::from_fn(|l| c[l]);
-            self.add(&a, &c);
+            let w = self.add(&a, &c);
+            for (&t, w) in t.iter().zip(&w) {
+                let sums = &mut window[t as usize];
+                for ((num, den), &w) in sums.num.iter_mut().zip(&mut sums.den).zip(w) {
+                    *num += w * cs;
+                    *den += w;
+                }
+            }
         }
     }
 
-    /// Adds [`LANES`] neighbours with `a = d²/(2σ²)` and curvature `c`. Scale `K` reaches
-    /// a neighbour when `d ≤ 2σ_K`, i.e. `a ≤ 2K²`; lanes with `a > 2L²` add nothing.
+    /// Adds [`LANES`] neighbours with `a = d²/(2σ²)` and curvature `c`; returns their
+    /// weights. Scale `K` reaches a neighbour when `d ≤ 2σ_K`, i.e. `a ≤ 2K²`; lanes with
+    /// `a > 2L²` get weight 0.
     #[inline(always)]
-    fn add(&mut self, a: &[f64; LANES], c: &[f64; LANES]) {
+    fn add(&mut self, a: &[f64; LANES], c: &[f64; LANES]) -> [[f64; L]; LANES] {
+        let mut out = [[0.0; L]; LANES];
         for l in 0..LANES {
             // Clamped so that empty lanes stay finite (their weights are 0).
             let w = Gaussians::<L>::weights(a[l].min(Gaussians::<L>::REACH[L - 1]));
@@ -303,8 +437,10 @@ impl<const L: usize> Sums<L> {
                 };
                 self.num[k][l] += w * c[l];
                 self.den[k][l] += w;
+                out[l][k] = w;
             }
         }
+        out
     }
 }
 
@@ -560,6 +696,39 @@ mod tests {
                     "scales {scales}, vertex {v}: {a} vs {b}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn variation_does_not_depend_on_the_thread_count() {
+        // Each pair is weighted once and its weights are added to both ends, by tasks that
+        // run in parallel: the sums must still come out bit for bit the same.
+        let mesh = shapes::ellipsoid(2.0, 1.5, 1.0, 4);
+        let c = estimate(&mesh, &CurvatureOptions::default()).unwrap();
+        let sigma = 0.5 * mean_edge_length(&mesh);
+        // Cells of σ_4 = 4σ along the longest axis (x, 4 long): at least three layers per
+        // phase, so several tasks write to the same sums.
+        let layers = (4.0 / (4.0 * sigma)) as usize + 1;
+        assert!(layers >= 12, "{layers} layers");
+        let curv: Vec<f64> = (0..mesh.num_vertices())
+            .map(|v| c.k_max[v].abs().max(c.k_min[v].abs()))
+            .collect();
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| variation(&mesh, &curv, sigma, 3))
+        };
+        let one = run(1);
+        for threads in [2, 3, 5] {
+            let many = run(threads);
+            assert!(
+                one.iter()
+                    .zip(&many)
+                    .all(|(a, b)| a.to_bits() == b.to_bits()),
+                "{threads} threads"
+            );
         }
     }
 

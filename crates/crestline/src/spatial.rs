@@ -95,6 +95,17 @@ impl PointGrid {
         self.cell
     }
 
+    /// The slots of each layer of cells along z (cells are stored z-major): layer `k` holds
+    /// slots `offsets[k]..offsets[k + 1]`, so there is one entry more than layers. A point
+    /// with `z` in layer `k` has `origin.z + k · cell_size() <= z` (up to rounding) and, below
+    /// the top layer, `z < origin.z + (k + 1) · cell_size()`.
+    pub fn layer_offsets(&self) -> Vec<usize> {
+        let layer = self.dims[0] * self.dims[1];
+        (0..=self.dims[2])
+            .map(|k| self.cell_offsets[k * layer] as usize)
+            .collect()
+    }
+
     /// Calls `visit(index, squared distance)` for every point within `radius` of `p`.
     /// `radius` may exceed the cell size; more cells are then visited.
     pub fn for_each_within(&self, p: Vec3, radius: f64, mut visit: impl FnMut(u32, f64)) {
@@ -117,6 +128,20 @@ impl PointGrid {
         &self,
         p: Vec3,
         radius: f64,
+        visit: impl FnMut(std::ops::Range<usize>),
+    ) {
+        self.for_each_run_near_after(p, radius, 0, visit);
+    }
+
+    /// [`PointGrid::for_each_run_near`] limited to the slots from `first` on: the runs
+    /// start at `first` or later (layers and rows of cells that end before it are not
+    /// visited at all), so a caller that handles each pair of points once, from its
+    /// earlier slot, skips the earlier half of the neighbourhood cheaply.
+    pub fn for_each_run_near_after(
+        &self,
+        p: Vec3,
+        radius: f64,
+        first: usize,
         mut visit: impl FnMut(std::ops::Range<usize>),
     ) {
         // Cell coordinates of p (unclamped: p may lie outside the grid).
@@ -141,9 +166,18 @@ impl PointGrid {
         let r2 = radius * radius;
         let (z0, z1) = range(2, radius);
         let (y0, y1) = range(1, radius);
+        let row_len = self.dims[0];
+        let layer_len = self.dims[1] * row_len;
         for z in z0..=z1 {
+            if (self.cell_offsets[(z as usize + 1) * layer_len] as usize) <= first {
+                continue;
+            }
             let dz = gap(q.z, z);
             for y in y0..=y1 {
+                let row = (z as usize * self.dims[1] + y as usize) * row_len;
+                if (self.cell_offsets[row + row_len] as usize) <= first {
+                    continue;
+                }
                 // The ball meets this row of cells in a chord of half-length hx.
                 let dy = gap(q.y, y);
                 let h2 = r2 - dy * dy - dz * dz;
@@ -154,8 +188,7 @@ impl PointGrid {
                 if x0 > x1 {
                     continue;
                 }
-                let row = (z as usize * self.dims[1] + y as usize) * self.dims[0];
-                let start = self.cell_offsets[row + x0 as usize] as usize;
+                let start = (self.cell_offsets[row + x0 as usize] as usize).max(first);
                 let end = self.cell_offsets[row + x1 as usize + 1] as usize;
                 if start < end {
                     visit(start..end);
@@ -432,6 +465,51 @@ mod tests {
             grid.nearest_within(pts[7] + Vec3::repeat(1e-9), 0.1),
             Some(7)
         );
+    }
+
+    #[test]
+    fn runs_after_a_slot_hold_exactly_the_later_points_nearby() {
+        let pts: Vec<Vec3> = (0..800)
+            .map(|i| {
+                let f = i as f64;
+                Vec3::new(
+                    (f * 0.37).sin() * 3.0,
+                    (f * 0.11).cos() * 2.0,
+                    (f * 0.05).sin() * 4.0,
+                )
+            })
+            .collect();
+        let grid = PointGrid::new(&pts, 0.5);
+        let order = grid.order();
+        // The layers partition the slots, and each point lies in its layer's z range.
+        let layers = grid.layer_offsets();
+        assert_eq!(layers[0], 0);
+        assert_eq!(*layers.last().unwrap(), pts.len());
+        let z_min = pts.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+        for (k, w) in layers.windows(2).enumerate() {
+            assert!(w[0] <= w[1]);
+            for &i in &order[w[0]..w[1]] {
+                let layer = (pts[i as usize].z - z_min) / grid.cell_size();
+                assert!(layer >= k as f64 - 1e-9 && layer < (k + 1) as f64 + 1e-9);
+            }
+        }
+        assert!(layers.len() > 10);
+        for slot in [0, 1, 57, 400, 799] {
+            let q = pts[order[slot] as usize];
+            for r in [0.5, 1.0] {
+                let mut found = Vec::new();
+                let mut last_end = 0;
+                grid.for_each_run_near_after(q, r, slot, |run| {
+                    assert!(run.start >= slot.max(last_end) && run.start < run.end);
+                    last_end = run.end;
+                    found.extend(run.filter(|&t| (pts[order[t] as usize] - q).norm() <= r));
+                });
+                let brute: Vec<usize> = (slot..pts.len())
+                    .filter(|&t| (pts[order[t] as usize] - q).norm() <= r)
+                    .collect();
+                assert_eq!(found, brute, "slot {slot} r {r}");
+            }
+        }
     }
 
     #[test]
