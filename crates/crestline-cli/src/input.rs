@@ -71,14 +71,8 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: OrientArgs) -> Result<TriMe
 /// when there are any.
 fn note_awkward_parts(mesh: &TriMesh, name: &str) {
     let topo = mesh.topology();
-    let unreferenced = topo
-        .vertex_kinds()
-        .iter()
-        .filter(|&&k| k == VertexKind::Unreferenced)
-        .count();
-    let non_manifold = (0..topo.num_edges() as u32)
-        .filter(|&e| topo.edge_kind(e) == EdgeKind::NonManifold)
-        .count();
+    let unreferenced = topo.count_vertices(VertexKind::Unreferenced);
+    let non_manifold = topo.count_edges(EdgeKind::NonManifold);
     let plural =
         |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     let mut parts = Vec::new();

@@ -5,8 +5,10 @@
 //! mesh itself. Used for the CGAL comparison in `BENCHMARKS.md`.
 //!
 //! ```sh
-//! cargo run --release -p crestline --example stage_memory -- MESH [hpw|ybs|saliency]
+//! cargo run --release -p crestline --example stage_memory -- MESH [hpw|ybs|saliency|load]
 //! ```
+//!
+//! `load` stops after the loading steps (read, parse, build, orient).
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -103,12 +105,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let path = PathBuf::from(
         args.next()
-            .ok_or("usage: stage_memory MESH [hpw|ybs|saliency]")?,
+            .ok_or("usage: stage_memory MESH [hpw|ybs|saliency|load]")?,
     );
     let method = match args.next().as_deref() {
-        None | Some("hpw") => Method::Hpw,
-        Some("ybs") => Method::Ybs,
-        Some("saliency") => Method::Saliency,
+        None | Some("hpw") => Some(Method::Hpw),
+        Some("ybs") => Some(Method::Ybs),
+        Some("saliency") => Some(Method::Saliency),
+        Some("load") => None,
         Some(other) => return Err(format!("unknown method {other}").into()),
     };
 
@@ -146,6 +149,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         faces,
         &mut overall,
     );
+
+    // As the CLI does before extracting: closed components facing inward are reversed.
+    let start = Instant::now();
+    let (mesh, _) = crestline::mesh::orient_outward(mesh)?;
+    row(
+        "orient outward",
+        start.elapsed().as_secs_f64(),
+        faces,
+        &mut overall,
+    );
+    let Some(method) = method else {
+        return Ok(());
+    };
 
     let options = ExtractOptions::for_method(method);
     let mut progress = |stage: Stage, done: Option<Duration>| {

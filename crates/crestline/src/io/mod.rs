@@ -143,7 +143,10 @@ impl MeshData {
 pub fn read_mesh(path: &Path, format: Option<Format>) -> Result<TriMesh> {
     let format = Format::resolve(path, format)?;
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    read_mesh_bytes(&bytes, format, path)
+    let data = parse_mesh_bytes(&bytes, format, path)?;
+    // The file's bytes are no longer needed: freed before the connectivity is built.
+    drop(bytes);
+    data.into_mesh(path)
 }
 
 /// Parses a whole file held in memory and builds the mesh; `name` labels errors.

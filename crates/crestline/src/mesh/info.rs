@@ -50,16 +50,9 @@ impl MeshInfo {
     /// Computes the report.
     pub fn of(mesh: &TriMesh) -> Self {
         let topo = mesh.topology();
-        let kinds = topo.vertex_kinds();
-        let count = |k: VertexKind| kinds.iter().filter(|&&x| x == k).count();
-        let unreferenced = count(VertexKind::Unreferenced);
-        let edge_count = |k: EdgeKind| {
-            (0..topo.num_edges() as u32)
-                .filter(|&e| topo.edge_kind(e) == k)
-                .count()
-        };
-        let boundary_edges = edge_count(EdgeKind::Boundary);
-        let non_manifold_edges = edge_count(EdgeKind::NonManifold);
+        let unreferenced = topo.count_vertices(VertexKind::Unreferenced);
+        let boundary_edges = topo.count_edges(EdgeKind::Boundary);
+        let non_manifold_edges = topo.count_edges(EdgeKind::NonManifold);
         let (orientation, _) = super::orientation(mesh);
         let bbox = mesh.bounding_box();
         let euler = (mesh.num_vertices() - unreferenced) as i64 - topo.num_edges() as i64
@@ -73,7 +66,7 @@ impl MeshInfo {
             boundary_edges,
             boundary_loops: topo.boundary_loops(mesh.faces()),
             non_manifold_edges,
-            non_manifold_vertices: count(VertexKind::NonManifold),
+            non_manifold_vertices: topo.count_vertices(VertexKind::NonManifold),
             components: orientation.components,
             inward_components: orientation.inward,
             inconsistent_components: orientation.inconsistent,

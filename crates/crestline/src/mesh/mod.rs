@@ -29,6 +29,8 @@ pub use topology::{EdgeKind, Topology, VertexKind};
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use crate::error::{Error, Result};
 
 /// A 3-vector of `f64`, used for positions, normals and directions.
@@ -60,8 +62,8 @@ impl TriMesh {
     /// [`Error::InvalidInput`] when a coordinate is NaN or infinite, or an index is out of range.
     pub fn new(positions: Vec<Vec3>, faces: Vec<[u32; 3]>) -> Result<Self> {
         if let Some(i) = positions
-            .iter()
-            .position(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
+            .par_iter()
+            .position_first(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
         {
             return Err(Error::InvalidInput(format!(
                 "vertex {i} has a non-finite coordinate ({}, {}, {})",
@@ -74,22 +76,29 @@ impl TriMesh {
                 "{n} vertices is more than the 2^32-1 this crate indexes"
             )));
         }
-        if let Some((f, t)) = faces
-            .iter()
-            .enumerate()
-            .find(|(_, t)| t.iter().any(|&i| i as usize >= n))
+        if let Some(f) = faces
+            .par_iter()
+            .position_first(|t| t.iter().any(|&i| i as usize >= n))
         {
+            let t = faces[f];
             return Err(Error::InvalidInput(format!(
                 "face {f} ({} {} {}) refers to a vertex beyond the {n} there are",
                 t[0], t[1], t[2]
             )));
         }
-        let before = faces.len();
-        let faces: Vec<[u32; 3]> = faces
-            .into_iter()
-            .filter(|t| !is_degenerate(&positions, t))
-            .collect();
-        let degenerate_faces = before - faces.len();
+        let degenerate_faces = faces
+            .par_iter()
+            .filter(|t| is_degenerate(&positions, t))
+            .count();
+        // Usually there are none, and the faces are kept as they are.
+        let faces: Vec<[u32; 3]> = if degenerate_faces == 0 {
+            faces
+        } else {
+            faces
+                .into_par_iter()
+                .filter(|t| !is_degenerate(&positions, t))
+                .collect()
+        };
         let topology = Topology::from_faces(n, faces);
         Ok(TriMesh {
             positions,

@@ -36,6 +36,9 @@ pub struct Orientation {
     pub inconsistent: usize,
 }
 
+/// Faces per block when summing volumes.
+const VOLUME_BLOCK: usize = 1 << 14;
+
 /// Classifies the components of `mesh`; returns the report and, per face, whether it lies in
 /// an inward-facing closed component.
 pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
@@ -68,11 +71,28 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
         .into_iter()
         .map(AtomicBool::into_inner)
         .collect();
-    // Signed volumes about the bounding-box centre (for fewer cancellations).
+    // Signed volumes about the bounding-box centre (for fewer cancellations): summed in
+    // parallel over fixed blocks of faces, run by run of faces in one component, then block
+    // by block in order, so the sums do not depend on the number of threads.
     let centre = mesh.bounding_box().center();
+    let runs: Vec<Vec<(u32, f64)>> = faces
+        .par_chunks(VOLUME_BLOCK)
+        .map(|block| {
+            let mut runs: Vec<(u32, f64)> = Vec::new();
+            for t in block {
+                let c = vertex_component[t[0] as usize];
+                let v = tetrahedron_volume(mesh, centre, t);
+                match runs.last_mut() {
+                    Some((last, sum)) if *last == c => *sum += v,
+                    _ => runs.push((c, v)),
+                }
+            }
+            runs
+        })
+        .collect();
     let mut volume = vec![0.0f64; count];
-    for (f, t) in faces.iter().enumerate() {
-        volume[component(f)] += tetrahedron_volume(mesh, centre, t);
+    for (c, v) in runs.into_iter().flatten() {
+        volume[c as usize] += v;
     }
     let mut report = Orientation {
         components: count,
