@@ -425,14 +425,30 @@ impl<'m> ConnectionSystem<'m> {
         v: usize,
         value: impl Fn(usize) -> [f64; K],
     ) -> [f64; K] {
-        let mut sum = [0.0; K];
-        for (q, w, flips) in self.row(v) {
-            let u = value(q);
+        // Two partial sums (even and odd entries) halve the chain of dependent additions,
+        // which otherwise bounds the speed of the product.
+        let (offsets, _) = self.topology.vertex_edge_rows();
+        let range = offsets[v] as usize..offsets[v + 1] as usize;
+        let (entries, weights) = (&self.entries[range.clone()], &self.weights[range]);
+        let shift = self.flip_bits;
+        let mask = (1u32 << shift) - 1;
+        let term = |sum: &mut [f64; K], c: u32, w: f32| {
+            let u = value((c >> shift) as usize);
             for f in 0..K {
-                sum[f] += signed(w, flips, f) * u[f];
+                sum[f] += signed(f64::from(w), c & mask, f) * u[f];
             }
+        };
+        let (mut even, mut odd) = ([0.0; K], [0.0; K]);
+        let mut pairs = entries.chunks_exact(2).zip(weights.chunks_exact(2));
+        for (c, w) in &mut pairs {
+            term(&mut even, c[0], w[0]);
+            term(&mut odd, c[1], w[1]);
         }
-        sum
+        if entries.len() % 2 == 1 {
+            let last = entries.len() - 1;
+            term(&mut even, entries[last], weights[last]);
+        }
+        std::array::from_fn(|f| even[f] + odd[f])
     }
 
     /// Right-hand side `b̂ = D^{-½} M x` of vertex `v` (`x` the unscaled value).
