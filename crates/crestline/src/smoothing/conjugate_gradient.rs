@@ -16,7 +16,7 @@
 //! works on `Â` directly, computing its entries from the stored ones.
 //!
 //! **Preconditioners** ([`Preconditioner`]):
-//! - Jacobi (the default, the scaling alone): every pass is parallel over the vertices, and
+//! - Jacobi (the default, the diagonal alone): every pass is parallel over the vertices, and
 //!   all fields share each pass over the matrix.
 //! - symmetric Gauss–Seidel: `P = (I − L)(I − Lᵀ)` with `L` the strictly lower part of `W` in
 //!   vertex order, applied by Eisenstat's trick (S. C. Eisenstat, "Efficient implementation
@@ -37,8 +37,8 @@
 //! 28 bytes per face. The matrix products read the rows front to back and gather only the
 //! neighbours' values: on a 1.5M-face mesh this took about 20% less CPU time than reaching
 //! the neighbour and an `f64` weight through the edge list (9 bytes per edge, about 22 per
-//! face with the mass and diagonal), whose random reads cost more than the extra bytes. The weights are
-//! rounded to single precision once ([`round_weights`]; a relative change below 6e-8, far
+//! face with the mass and diagonal), whose random reads cost more than the extra bytes. The
+//! weights are rounded to single precision once ([`round_weights`]; a relative change below 6e-8, far
 //! below the tolerance) and the diagonal is summed from the rounded values, so the system
 //! is still exactly symmetric, conserves `Σ M u` and keeps constants fixed (σ = +1); the
 //! other solvers are given the same rounded weights ([`super::DiffusionOperator`]).
