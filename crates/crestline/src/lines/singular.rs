@@ -50,10 +50,16 @@ pub fn process_singular_triangles(mesh: &TriMesh, segments: &mut FamilySegments)
         .filter_map(|f| {
             let mut edges = [0u32; 3];
             let mut count = 0;
-            for s in 0..3 {
-                let e = topo.face_edges(f)[s];
-                let across_regular = topo.face_across(f, s).is_some_and(|g| regular[g as usize]);
-                if across_regular && marked_by_regular[e as usize] {
+            for e in topo.face_edges(f) {
+                if !marked_by_regular.get(e as usize).copied().unwrap_or(false) {
+                    continue;
+                }
+                // The face across, when the edge has exactly two faces.
+                let across_regular = match *topo.edge_faces(e) {
+                    [a, b] => regular[if a == f { b } else { a } as usize],
+                    _ => false,
+                };
+                if across_regular {
                     edges[count] = e;
                     count += 1;
                 }

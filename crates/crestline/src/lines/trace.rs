@@ -124,7 +124,6 @@ impl FamilySegments {
 
 /// Traces the feature-line segments of `family` in every regular triangle.
 pub fn trace_regular_triangles(mesh: &TriMesh, family: &Family<'_>) -> FamilySegments {
-    let topo = mesh.topology();
     let signs_of = |f: usize| {
         let t = mesh.faces()[f];
         consistent_signs(t.map(|v| family.dirs[v as usize]))
@@ -139,8 +138,7 @@ pub fn trace_regular_triangles(mesh: &TriMesh, family: &Family<'_>) -> FamilySeg
         .into_par_iter()
         .filter_map(|f| {
             let signs = signs_of(f)?;
-            feature_segment(mesh, family, f as u32, signs, topo.face_edges(f as u32))
-                .map(|s| (s, f as u32))
+            feature_segment(mesh, family, f as u32, signs).map(|s| (s, f as u32))
         })
         .unzip();
     FamilySegments {
@@ -156,7 +154,6 @@ fn feature_segment(
     family: &Family<'_>,
     f: u32,
     signs: [f64; 3],
-    edges: [u32; 3],
 ) -> Option<[Node; 2]> {
     let t = mesh.faces()[f as usize];
     let e = [0, 1, 2].map(|i| signs[i] * family.e[t[i] as usize]);
@@ -195,7 +192,9 @@ fn feature_segment(
     if !extremum_ok {
         return None;
     }
-    // The signs are not all equal, so exactly two of the three edges change sign.
+    // The signs are not all equal, so exactly two of the three edges change sign. The edges
+    // are looked up only here, for the few faces that carry a segment.
+    let edges = mesh.topology().face_edges(f);
     let mut crossed = (0..3)
         .filter(|&s| positive[s] != positive[(s + 1) % 3])
         .map(|s| Node::Edge(edges[s]));
