@@ -255,12 +255,13 @@ fn push_fan(faces: &mut Vec<[u32; 3]>, corners: &[u32]) {
 /// (where plain decimals would run to hundreds of digits).
 #[inline]
 fn write_f64(out: &mut impl Write, x: f64) -> std::io::Result<()> {
-    let magnitude = x.abs();
-    if magnitude == 0.0 || (1e-5..1e16).contains(&magnitude) {
-        write!(out, "{x}")
-    } else {
-        write!(out, "{x:e}")
-    }
+    // zmij (already in the tree through serde_json) prints the same shortest round-trip
+    // digits as `Display` for a third of the instructions (igea's lines: 30M against 103M),
+    // and like the `{:e}` it replaced it switches to exponent form for very small and very
+    // large magnitudes. Whole numbers keep `Display`'s form ("1", not "1.0").
+    let mut buffer = zmij::Buffer::new();
+    let text = buffer.format(x);
+    out.write_all(text.strip_suffix(".0").unwrap_or(text).as_bytes())
 }
 
 #[cfg(test)]
