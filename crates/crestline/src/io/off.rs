@@ -14,7 +14,9 @@
 //! lines of each piece (a fast search for line breaks), which numbers the records when every
 //! line holds one; the second parses the pieces, vertices straight into their place. Should a
 //! piece meet a blank or comment line, the records are counted token by token and the pieces
-//! parsed again. Errors still name the line, counted only when one occurs.
+//! parsed again. Lines of three finite numbers and triangle lines `3 a b c` are read in one
+//! scan each; anything else (polygons, signs, comments, errors) goes through the tokens.
+//! Errors still name the line, counted only when one occurs.
 //!
 //! Limits: the body must put one vertex or face per line (as every writer does); 4D (`4OFF`),
 //! n-dimensional (`nOFF`) and binary OFF are refused with an error.
@@ -26,7 +28,7 @@ use std::io::Write;
 
 use rayon::prelude::*;
 
-use super::text::{Lines, Source, Tokens, parse_i64, show, vertex};
+use super::text::{Lines, Source, Tokens, is_space, parse_i64, show, vertex, vertex_line};
 use super::{MeshData, push_fan, write_f64};
 use crate::error::Result;
 use crate::mesh::TriMesh;
@@ -298,6 +300,18 @@ impl Body<'_> {
             let Some((_, text)) = lines.next() else {
                 break;
             };
+            // Plain vertices and triangles first, without splitting the line into tokens.
+            if record < self.vertex_count {
+                if let Some(p) = vertex_line(text) {
+                    slots[record - first] = p;
+                    record += 1;
+                    continue;
+                }
+            } else if let Some(t) = triangle_line(text, self.vertex_count) {
+                piece.faces.push(t);
+                record += 1;
+                continue;
+            }
             let mut tokens = Tokens::new(text);
             let Some(head) = tokens.next() else {
                 piece.skipped += 1;
@@ -322,6 +336,43 @@ impl Body<'_> {
         piece.records = record - first;
         piece
     }
+}
+
+/// The corners of a face line `3 a b c` with indices in range, read without splitting the
+/// line into tokens; `None` sends the line to [`face`], which reads what this cannot
+/// (polygons, signs) and words the errors.
+#[inline]
+fn triangle_line(line: &[u8], vertex_count: usize) -> Option<[u32; 3]> {
+    let mut rest = line;
+    if unsigned_prefix(&mut rest)? != 3 {
+        return None;
+    }
+    let mut t = [0u32; 3];
+    for corner in &mut t {
+        let i = unsigned_prefix(&mut rest)?;
+        if i >= vertex_count as u64 {
+            return None;
+        }
+        *corner = i as u32;
+    }
+    Some(t)
+}
+
+/// An unsigned integer of at most 18 digits after leading whitespace, ending at whitespace or
+/// the end of the line; `rest` moves past it.
+#[inline]
+fn unsigned_prefix(rest: &mut &[u8]) -> Option<u64> {
+    let start = rest.iter().position(|&b| !is_space(b))?;
+    let text = &rest[start..];
+    let digits = text.iter().take_while(|b| b.is_ascii_digit()).count();
+    if digits == 0 || digits > 18 || text.get(digits).is_some_and(|&b| !is_space(b)) {
+        return None;
+    }
+    let value = text[..digits]
+        .iter()
+        .fold(0u64, |v, &d| v * 10 + u64::from(d - b'0'));
+    *rest = &text[digits..];
+    Some(value)
 }
 
 /// Reads face `f` (`n i0 ... i(n-1)`, `n` already split off as `head`) into `corners`.
@@ -598,6 +649,33 @@ mod tests {
                 bad_face + 1
             )
         );
+    }
+
+    #[test]
+    fn triangle_lines_read_as_their_tokens_do() {
+        let mut corners = Vec::new();
+        for line in [
+            "3 0 1 2",
+            " 3\t2 1 0 255 0 0",
+            "3 0 1 2#c",
+            "3 0 1 9",
+            "3 0 1",
+            "4 0 1 2 3",
+            "3 0 +1 2",
+            "3 0 1 2x",
+            "03 00 01 2",
+        ] {
+            // `None` leaves the line to the token path, always right.
+            if let Some(t) = triangle_line(line.as_bytes(), 4) {
+                let mut tokens = Tokens::new(line.as_bytes());
+                let head = tokens.next().unwrap();
+                face(head, tokens, 0, 4, &mut corners).unwrap();
+                assert_eq!(corners, t, "{line}");
+            }
+        }
+        assert_eq!(triangle_line(b" 3\t2 1 0 255 0 0", 4), Some([2, 1, 0]));
+        assert_eq!(triangle_line(b"3 0 1 9", 4), None);
+        assert_eq!(triangle_line(b"3 0 1 2#c", 4), None);
     }
 
     #[test]
