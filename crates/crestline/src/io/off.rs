@@ -10,9 +10,13 @@
 //! per line: `n i0 ... i(n-1)` with 0-based indices, optionally followed by a colour.
 //! Polygons are fan-triangulated. `#` starts a comment; blank lines are skipped.
 //!
-//! The body is cut at line breaks into pieces parsed on all cores (one pass counts the records
-//! of each piece, a second parses them); errors still name the line, counted only when one
-//! occurs.
+//! The body is cut at line breaks into pieces parsed on all cores. A first pass counts the
+//! lines of each piece (a fast search for line breaks), which numbers the records when every
+//! line holds one; the second parses the pieces, vertices straight into their place. Should a
+//! piece meet a blank or comment line, the records are counted token by token and the pieces
+//! parsed again. Lines of three finite numbers and triangle lines `3 a b c` are read in one
+//! scan each; anything else (polygons, signs, comments, errors) goes through the tokens.
+//! Errors still name the line, counted only when one occurs.
 //!
 //! Limits: the body must put one vertex or face per line (as every writer does); 4D (`4OFF`),
 //! n-dimensional (`nOFF`) and binary OFF are refused with an error.
@@ -24,7 +28,7 @@ use std::io::Write;
 
 use rayon::prelude::*;
 
-use super::text::{Lines, Source, Tokens, parse_i64, show, vertex};
+use super::text::{Lines, Source, Tokens, is_space, parse_i64, show, vertex, vertex_line};
 use super::{MeshData, push_fan, write_f64};
 use crate::error::Result;
 use crate::mesh::TriMesh;
@@ -108,43 +112,38 @@ fn parse_with_chunks(bytes: &[u8], source: Source<'_>, chunk_bytes: usize) -> Re
         face_count,
     };
     let pieces = body.pieces(raw.offset(), chunk_bytes);
-    // Pass 1: how many records (lines with content) each piece holds, so that every piece
-    // knows the number of its first record.
-    let records: Vec<usize> = pieces
+    // Pass 1 needs the number of the first record of every piece. Counting the lines (one
+    // fast search for line breaks) gives it when every line holds a record, as in the files
+    // writers produce; pass 2 checks that as it goes, and only when a piece meets a blank or
+    // comment line are the records counted token by token and the pieces parsed again.
+    let lines: Vec<usize> = pieces
         .par_iter()
         .map(|r| {
-            Lines::new(&bytes[r.clone()])
-                .filter(|(_, text)| Tokens::new(text).next().is_some())
-                .count()
+            let piece = &bytes[r.clone()];
+            memchr::memchr_iter(b'\n', piece).count() + usize::from(piece.last() != Some(&b'\n'))
         })
         .collect();
-    let mut first_record = Vec::with_capacity(pieces.len());
-    let mut total = 0usize;
-    for n in &records {
-        first_record.push(total);
-        total += n;
-    }
-    // Pass 2: parse the pieces; the first failure in file order is the one reported, with
-    // its line number counted only then.
-    let parsed: Vec<_> = pieces
-        .par_iter()
-        .zip(first_record.par_iter())
-        .map(|(r, &first)| body.parse_piece(r.start, r.end, first))
-        .collect();
-    let mut positions = Vec::with_capacity(vertex_count.min(total));
-    let mut triangles = 0;
-    for piece in &parsed {
-        match piece {
-            Ok((p, f)) => {
-                positions.extend_from_slice(p);
-                triangles += f.len();
-            }
-            Err((offset, message)) => {
-                let line = memchr::memchr_iter(b'\n', &bytes[..*offset]).count() + 1;
-                return Err(source.at_line(line, message.clone()));
-            }
+    let parsed = match body.parse_pieces(&pieces, &lines, false) {
+        Some(parsed) => parsed,
+        None => {
+            let records: Vec<usize> = pieces
+                .par_iter()
+                .map(|r| {
+                    Lines::new(&bytes[r.clone()])
+                        .filter(|(_, text)| Tokens::new(text).next().is_some())
+                        .count()
+                })
+                .collect();
+            body.parse_exact(&pieces, &records)
         }
-    }
+    };
+    let (positions, faces, total) = match parsed {
+        Ok(parsed) => parsed,
+        Err((offset, message)) => {
+            let line = memchr::memchr_iter(b'\n', &bytes[..offset]).count() + 1;
+            return Err(source.at_line(line, message));
+        }
+    };
     if total < vertex_count {
         return Err(source.at_line(
             last_line(),
@@ -159,10 +158,6 @@ fn parse_with_chunks(bytes: &[u8], source: Source<'_>, chunk_bytes: usize) -> Re
                 total - vertex_count
             ),
         ));
-    }
-    let mut faces = Vec::with_capacity(triangles);
-    for (_, f) in parsed.into_iter().flatten() {
-        faces.extend_from_slice(&f);
     }
     Ok(MeshData { positions, faces })
 }
@@ -185,9 +180,22 @@ struct Body<'a> {
     face_count: usize,
 }
 
-/// Vertices and triangles of one piece of the body, or the byte offset of the line that
-/// failed and what is wrong with it.
-type Piece = std::result::Result<(Vec<[f64; 3]>, Vec<[u32; 3]>), (usize, String)>;
+/// What [`Body::parse_piece`] found in one piece of the body.
+#[derive(Default)]
+struct Piece {
+    /// Its triangles (its vertices went straight to their place in the positions).
+    faces: Vec<[u32; 3]>,
+    /// Records read.
+    records: usize,
+    /// Lines without content met before the last record read.
+    skipped: usize,
+    /// The byte offset of the line that failed and what is wrong with it.
+    error: Option<(usize, String)>,
+}
+
+/// The positions, the triangles and the number of records read, or the byte offset of the
+/// first line (in file order) that failed and what is wrong with it.
+type Parsed = std::result::Result<(Vec<[f64; 3]>, Vec<[u32; 3]>, usize), (usize, String)>;
 
 impl Body<'_> {
     /// Cuts `bytes[start..]` into ranges of about `chunk_bytes` bytes that end at line ends.
@@ -206,38 +214,165 @@ impl Body<'_> {
         pieces
     }
 
-    /// Parses the records in `bytes[start..end]`, the first of which is record `first`.
-    fn parse_piece(&self, start: usize, end: usize, first: usize) -> Piece {
-        let records = self.vertex_count + self.face_count;
-        let mut positions = Vec::new();
-        let mut faces = Vec::new();
-        if first >= records {
-            return Ok((positions, faces));
+    /// [`Body::parse_pieces`] with the exact number of records of every piece.
+    fn parse_exact(&self, pieces: &[std::ops::Range<usize>], records: &[usize]) -> Parsed {
+        // With exact counts nothing is rejected; an empty result would only come from a bug.
+        self.parse_pieces(pieces, records, true)
+            .unwrap_or_else(|| Ok((Vec::new(), Vec::new(), 0)))
+    }
+
+    /// Parses the pieces on all cores, taking piece `i` to hold `records[i]` records. When
+    /// these counts are the pieces' numbers of lines (`exact` false), `None` says that a piece
+    /// met a line without content, so that the counts were wrong.
+    fn parse_pieces(
+        &self,
+        pieces: &[std::ops::Range<usize>],
+        records: &[usize],
+        exact: bool,
+    ) -> Option<Parsed> {
+        let mut first_record = Vec::with_capacity(pieces.len());
+        let mut total = 0usize;
+        for n in records {
+            first_record.push(total);
+            total += n;
         }
+        // Every piece parses its vertices straight into their slots: no copies, and no
+        // second array of positions.
+        let len = self.vertex_count.min(total);
+        let mut positions = vec![[0.0f64; 3]; len];
+        let mut slots = Vec::with_capacity(pieces.len());
+        let mut rest = &mut positions[..];
+        for (&first, &n) in first_record.iter().zip(records) {
+            let (mine, tail) = rest.split_at_mut((first + n).min(len) - first.min(len));
+            slots.push(mine);
+            rest = tail;
+        }
+        let parsed: Vec<Piece> = pieces
+            .par_iter()
+            .zip(first_record.par_iter().zip(records.par_iter()))
+            .zip(slots.into_par_iter())
+            .map(|((r, (&first, &n)), slots)| self.parse_piece(r.clone(), first, n, slots))
+            .collect();
+        let mut read = 0;
+        let mut triangles = 0;
+        for piece in &parsed {
+            if !exact && piece.skipped > 0 {
+                return None;
+            }
+            // The first failure in file order is the one reported.
+            if let Some(error) = &piece.error {
+                return Some(Err(error.clone()));
+            }
+            read += piece.records;
+            triangles += piece.faces.len();
+        }
+        let mut faces = Vec::with_capacity(triangles);
+        for piece in parsed {
+            faces.extend_from_slice(&piece.faces);
+        }
+        Some(Ok((positions, faces, read)))
+    }
+
+    /// Parses the records in `bytes[range]`, which holds records `first..first + count`
+    /// (fewer if it has lines without content): vertices into `slots` (those of vertices
+    /// `first..`), triangles into the result.
+    fn parse_piece(
+        &self,
+        range: std::ops::Range<usize>,
+        first: usize,
+        count: usize,
+        slots: &mut [[f64; 3]],
+    ) -> Piece {
+        let records = self.vertex_count + self.face_count;
+        let mut piece = Piece::default();
+        if first >= records {
+            return piece;
+        }
+        let face_records = (first + count)
+            .min(records)
+            .saturating_sub(first.max(self.vertex_count));
+        piece.faces.reserve(face_records);
         let mut corners: Vec<u32> = Vec::with_capacity(8);
         let mut record = first;
-        let mut lines = Lines::new(&self.bytes[start..end]);
+        let mut lines = Lines::new(&self.bytes[range.clone()]);
         while record < records {
-            let line_start = start + lines.offset();
+            let line_start = range.start + lines.offset();
             let Some((_, text)) = lines.next() else {
                 break;
             };
+            // Plain vertices and triangles first, without splitting the line into tokens.
+            if record < self.vertex_count {
+                if let Some(p) = vertex_line(text) {
+                    slots[record - first] = p;
+                    record += 1;
+                    continue;
+                }
+            } else if let Some(t) = triangle_line(text, self.vertex_count) {
+                piece.faces.push(t);
+                record += 1;
+                continue;
+            }
             let mut tokens = Tokens::new(text);
             let Some(head) = tokens.next() else {
+                piece.skipped += 1;
                 continue;
             };
             let result = if record < self.vertex_count {
-                vertex(&mut std::iter::once(head).chain(tokens), record).map(|p| positions.push(p))
+                // In range: a piece holds at most `count` records, and `slots` has room for
+                // the vertices among them.
+                vertex(&mut std::iter::once(head).chain(tokens), record)
+                    .map(|p| slots[record - first] = p)
             } else {
                 let f = record - self.vertex_count;
                 face(head, tokens, f, self.vertex_count, &mut corners)
-                    .map(|()| push_fan(&mut faces, &corners))
+                    .map(|()| push_fan(&mut piece.faces, &corners))
             };
-            result.map_err(|m| (line_start, m))?;
+            if let Err(message) = result {
+                piece.error = Some((line_start, message));
+                return piece;
+            }
             record += 1;
         }
-        Ok((positions, faces))
+        piece.records = record - first;
+        piece
     }
+}
+
+/// The corners of a face line `3 a b c` with indices in range, read without splitting the
+/// line into tokens; `None` sends the line to [`face`], which reads what this cannot
+/// (polygons, signs) and words the errors.
+#[inline]
+fn triangle_line(line: &[u8], vertex_count: usize) -> Option<[u32; 3]> {
+    let mut rest = line;
+    if unsigned_prefix(&mut rest)? != 3 {
+        return None;
+    }
+    let mut t = [0u32; 3];
+    for corner in &mut t {
+        let i = unsigned_prefix(&mut rest)?;
+        if i >= vertex_count as u64 {
+            return None;
+        }
+        *corner = i as u32;
+    }
+    Some(t)
+}
+
+/// An unsigned integer of at most 18 digits after leading whitespace, ending at whitespace or
+/// the end of the line; `rest` moves past it.
+#[inline]
+fn unsigned_prefix(rest: &mut &[u8]) -> Option<u64> {
+    let start = rest.iter().position(|&b| !is_space(b))?;
+    let text = &rest[start..];
+    let digits = text.iter().take_while(|b| b.is_ascii_digit()).count();
+    if digits == 0 || digits > 18 || text.get(digits).is_some_and(|&b| !is_space(b)) {
+        return None;
+    }
+    let value = text[..digits]
+        .iter()
+        .fold(0u64, |v, &d| v * 10 + u64::from(d - b'0'));
+    *rest = &text[digits..];
+    Some(value)
 }
 
 /// Reads face `f` (`n i0 ... i(n-1)`, `n` already split off as `head`) into `corners`.
@@ -514,6 +649,33 @@ mod tests {
                 bad_face + 1
             )
         );
+    }
+
+    #[test]
+    fn triangle_lines_read_as_their_tokens_do() {
+        let mut corners = Vec::new();
+        for line in [
+            "3 0 1 2",
+            " 3\t2 1 0 255 0 0",
+            "3 0 1 2#c",
+            "3 0 1 9",
+            "3 0 1",
+            "4 0 1 2 3",
+            "3 0 +1 2",
+            "3 0 1 2x",
+            "03 00 01 2",
+        ] {
+            // `None` leaves the line to the token path, always right.
+            if let Some(t) = triangle_line(line.as_bytes(), 4) {
+                let mut tokens = Tokens::new(line.as_bytes());
+                let head = tokens.next().unwrap();
+                face(head, tokens, 0, 4, &mut corners).unwrap();
+                assert_eq!(corners, t, "{line}");
+            }
+        }
+        assert_eq!(triangle_line(b" 3\t2 1 0 255 0 0", 4), Some([2, 1, 0]));
+        assert_eq!(triangle_line(b"3 0 1 9", 4), None);
+        assert_eq!(triangle_line(b"3 0 1 2#c", 4), None);
     }
 
     #[test]

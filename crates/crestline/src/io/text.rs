@@ -193,13 +193,44 @@ impl<'a> Words<'a> {
 /// `NaN`); callers reject non-finite values with a message of their own.
 ///
 /// Always correctly rounded: the common short decimals take an exact fast path, everything
-/// else goes to the standard library's parser.
+/// else (such as the 17 significant digits of shortest round-trip output) goes to
+/// `fast-float2`, the Eisel-Lemire algorithm the standard library's parser also uses, which
+/// reads the bytes without first checking them as UTF-8.
 #[inline]
 pub(crate) fn parse_f64(token: &[u8]) -> Option<f64> {
     match parse_short_decimal(token) {
         Some(x) => Some(x),
-        None => std::str::from_utf8(token).ok()?.parse().ok(),
+        None => fast_float2::parse(token).ok(),
     }
+}
+
+/// The number at the start of `text` and how many bytes it used, as [`parse_f64`] reads it
+/// (correctly rounded, so the same bits). Straight to `fast-float2`, which has Clinger's fast
+/// path inside: most files print 17 significant digits, beyond that path, and trying it
+/// first here only cost a second scan.
+#[inline]
+fn f64_prefix(text: &[u8]) -> Option<(f64, usize)> {
+    fast_float2::parse_partial(text).ok()
+}
+
+/// The three coordinates at the start of a vertex line when they are finite numbers
+/// separated by whitespace, read without splitting the line into tokens first; `None` sends
+/// the line to [`vertex`], which reads what this cannot and words the errors.
+#[inline]
+pub(crate) fn vertex_line(line: &[u8]) -> Option<[f64; 3]> {
+    let mut rest = line;
+    let mut p = [0.0; 3];
+    for x in &mut p {
+        let start = rest.iter().position(|&b| !is_space(b))?;
+        rest = &rest[start..];
+        let (value, used) = f64_prefix(rest)?;
+        if used == 0 || !value.is_finite() || rest.get(used).is_some_and(|&b| !is_space(b)) {
+            return None;
+        }
+        *x = value;
+        rest = &rest[used..];
+    }
+    Some(p)
 }
 
 /// Powers of ten that are exact in an `f64`.
@@ -476,6 +507,38 @@ mod tests {
                 assert_eq!(ours, std, "{s}");
             }
         }
+    }
+
+    #[test]
+    fn vertex_lines_read_as_their_tokens_do() {
+        let lines = [
+            "1 2 3",
+            "  -0.002118901526682305 -0.04000656638672886\t-0.0009573251918796522 ",
+            "1 2 3 0.5 0.5 1",
+            "1 2 3#c",
+            "1 2 # 3",
+            "1 2",
+            "1 2 nan",
+            "1 2 1e999",
+            "1 2 1.5e",
+            "+1 .5 5.",
+            "1 2 3x",
+            "1,2 3 4",
+            "0x10 1 2",
+            "inf 1 2",
+            "",
+        ];
+        for line in lines {
+            // `None` leaves the line to the token path, always right.
+            if let Some(p) = vertex_line(line.as_bytes()) {
+                let tokens = vertex(&mut Tokens::new(line.as_bytes()), 0);
+                assert_eq!(Ok(p), tokens, "{line}");
+            }
+        }
+        assert!(vertex_line(lines[1].as_bytes()).is_some());
+        assert_eq!(vertex_line(b"1 2 3x"), None);
+        assert_eq!(vertex_line(b"1 2 nan"), None);
+        assert_eq!(vertex_line(b"1 2 3 4"), Some([1.0, 2.0, 3.0]));
     }
 
     #[test]

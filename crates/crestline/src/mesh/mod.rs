@@ -76,9 +76,22 @@ impl TriMesh {
                 "{n} vertices is more than the 2^32-1 this crate indexes"
             )));
         }
-        if let Some(f) = faces
+        // One pass over the faces counts the degenerate ones and notes whether an index is out
+        // of range; only then is the first such face looked for (to name it).
+        let (out_of_range, degenerate_faces) = faces
             .par_iter()
-            .position_first(|t| t.iter().any(|&i| i as usize >= n))
+            .map(|t| {
+                if t.iter().any(|&i| i as usize >= n) {
+                    (true, 0)
+                } else {
+                    (false, usize::from(is_degenerate(&positions, t)))
+                }
+            })
+            .reduce(|| (false, 0), |a, b| (a.0 || b.0, a.1 + b.1));
+        if out_of_range
+            && let Some(f) = faces
+                .par_iter()
+                .position_first(|t| t.iter().any(|&i| i as usize >= n))
         {
             let t = faces[f];
             return Err(Error::InvalidInput(format!(
@@ -86,10 +99,6 @@ impl TriMesh {
                 t[0], t[1], t[2]
             )));
         }
-        let degenerate_faces = faces
-            .par_iter()
-            .filter(|t| is_degenerate(&positions, t))
-            .count();
         // Usually there are none, and the faces are kept as they are.
         let faces: Vec<[u32; 3]> = if degenerate_faces == 0 {
             faces
@@ -142,7 +151,17 @@ impl TriMesh {
 
     /// The same mesh with the faces `f` where `flip[f]` wound the other way (corners 1 and 2
     /// swapped). The connectivity does not depend on the winding: it is kept, not rebuilt.
-    pub(crate) fn with_flipped_faces(mut self, flip: &[bool]) -> TriMesh {
+    #[cfg(test)]
+    pub(crate) fn with_flipped_faces(self, flip: &[bool]) -> TriMesh {
+        self.with_faces_flipped_where(|f, _| flip[f])
+    }
+
+    /// The same mesh with the faces for which `flip(index, corners)` holds wound the other
+    /// way (corners 1 and 2 swapped); the connectivity is kept, not rebuilt.
+    pub(crate) fn with_faces_flipped_where(
+        mut self,
+        flip: impl Fn(usize, &[u32; 3]) -> bool + Sync,
+    ) -> TriMesh {
         Arc::make_mut(&mut self.topology).flip_faces(flip);
         self
     }

@@ -42,6 +42,30 @@ const VOLUME_BLOCK: usize = 1 << 14;
 /// Classifies the components of `mesh`; returns the report and, per face, whether it lies in
 /// an inward-facing closed component.
 pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
+    let (report, components) = classify(mesh);
+    let faces = mesh.faces();
+    let per_face = (0..faces.len())
+        .into_par_iter()
+        .map(|f| components.is_inward(&faces[f]))
+        .collect();
+    (report, per_face)
+}
+
+/// The component of every vertex and whether each faces inward, from which whether a face
+/// lies in an inward component is read off its first corner (no array per face).
+struct Components {
+    of_vertex: Vec<u32>,
+    inward: Vec<bool>,
+}
+
+impl Components {
+    fn is_inward(&self, triangle: &[u32; 3]) -> bool {
+        self.inward[self.of_vertex[triangle[0] as usize] as usize]
+    }
+}
+
+/// The report of [`orientation`] and the components it found.
+fn classify(mesh: &TriMesh) -> (Orientation, Components) {
     let topo = mesh.topology();
     let faces = mesh.faces();
     let (vertex_component, count) = topo.vertex_components(faces);
@@ -73,26 +97,32 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
         .collect();
     // Signed volumes about the bounding-box centre (for fewer cancellations): summed in
     // parallel over fixed blocks of faces, run by run of faces in one component, then block
-    // by block in order, so the sums do not depend on the number of threads.
+    // by block in order, so the sums do not depend on the number of threads. The runs also
+    // count the faces of each component.
     let centre = mesh.bounding_box().center();
-    let runs: Vec<Vec<(u32, f64)>> = faces
+    let runs: Vec<Vec<(u32, f64, usize)>> = faces
         .par_chunks(VOLUME_BLOCK)
         .map(|block| {
-            let mut runs: Vec<(u32, f64)> = Vec::new();
+            let mut runs: Vec<(u32, f64, usize)> = Vec::new();
             for t in block {
                 let c = vertex_component[t[0] as usize];
                 let v = tetrahedron_volume(mesh, centre, t);
                 match runs.last_mut() {
-                    Some((last, sum)) if *last == c => *sum += v,
-                    _ => runs.push((c, v)),
+                    Some((last, sum, faces)) if *last == c => {
+                        *sum += v;
+                        *faces += 1;
+                    }
+                    _ => runs.push((c, v, 1)),
                 }
             }
             runs
         })
         .collect();
     let mut volume = vec![0.0f64; count];
-    for (c, v) in runs.into_iter().flatten() {
+    let mut face_count = vec![0usize; count];
+    for (c, v, n) in runs.into_iter().flatten() {
         volume[c as usize] += v;
+        face_count[c as usize] += n;
     }
     let mut report = Orientation {
         components: count,
@@ -110,15 +140,15 @@ pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
         report.closed += 1;
         if volume[c] < 0.0 {
             report.inward += 1;
+            report.inward_faces += face_count[c];
             flip[c] = true;
         }
     }
-    let per_face: Vec<bool> = (0..faces.len())
-        .into_par_iter()
-        .map(|f| flip[component(f)])
-        .collect();
-    report.inward_faces = per_face.par_iter().filter(|&&x| x).count();
-    (report, per_face)
+    let components = Components {
+        of_vertex: vertex_component,
+        inward: flip,
+    };
+    (report, components)
 }
 
 /// Whether `triangle` runs through `edge` from its first (smaller) to its second vertex. Read
@@ -143,11 +173,14 @@ fn tetrahedron_volume(mesh: &TriMesh, centre: Vec3, triangle: &[u32; 3]) -> f64 
 /// None at present (reversing triangles keeps the connectivity as it is); the `Result` leaves
 /// room for meshes that cannot be oriented.
 pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
-    let (report, flip) = orientation(&mesh);
+    let (report, components) = classify(&mesh);
     if report.inward == 0 {
         return Ok((mesh, report));
     }
-    Ok((mesh.with_flipped_faces(&flip), report))
+    Ok((
+        mesh.with_faces_flipped_where(|_, t| components.is_inward(t)),
+        report,
+    ))
 }
 
 /// Signed volume enclosed by `mesh` (positive when a closed mesh faces outward). Meaningful

@@ -230,17 +230,14 @@ impl Topology {
         }
     }
 
-    /// Winds the faces `f` with `flip[f]` the other way (swaps their corners 1 and 2). Nothing
-    /// else changes: the connectivity does not depend on the winding.
-    pub(crate) fn flip_faces(&mut self, flip: &[bool]) {
-        self.faces
-            .par_iter_mut()
-            .zip(flip.par_iter())
-            .for_each(|(t, &flip)| {
-                if flip {
-                    t.swap(1, 2);
-                }
-            });
+    /// Winds the faces for which `flip(index, corners)` holds the other way (swaps their
+    /// corners 1 and 2). Nothing else changes: the connectivity does not depend on the winding.
+    pub(crate) fn flip_faces(&mut self, flip: impl Fn(usize, &[u32; 3]) -> bool + Sync) {
+        self.faces.par_iter_mut().enumerate().for_each(|(f, t)| {
+            if flip(f, t) {
+                t.swap(1, 2);
+            }
+        });
     }
 
     /// Number of vertices (including unreferenced ones).
@@ -390,6 +387,16 @@ impl Topology {
 
     /// Number of edges of kind `kind`.
     pub fn count_edges(&self, kind: EdgeKind) -> usize {
+        if kind == EdgeKind::NonManifold {
+            // Exactly the edges of the side table (usually none): walked from entry to entry.
+            let mut count = 0;
+            let mut at = 0;
+            while at < self.many_faces.len() {
+                count += 1;
+                at += 1 + self.many_faces[at] as usize;
+            }
+            return count;
+        }
         (0..self.num_edges() as u32)
             .into_par_iter()
             .filter(|&e| self.edge_kind(e) == kind)
