@@ -440,36 +440,30 @@ pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvatu
     // computed face by face without a per-face table (see `fill_extremalities`).
     let topo = mesh.topology();
     let mut vertex_normals = vec![Vec3::zeros(); mesh.num_vertices()];
-    let mut operators = PointOperators {
-        values: vec![[0.0; 6]; mesh.num_vertices()],
-        estimated: vec![false; mesh.num_vertices()],
-    };
+    let mut operators: Vec<Option<Sym6f64>> = vec![None; mesh.num_vertices()];
     vertex_normals
         .par_iter_mut()
-        .zip(operators.values.par_iter_mut())
-        .zip(operators.estimated.par_iter_mut())
+        .zip(operators.par_iter_mut())
         .enumerate()
-        .for_each_init(Star::default, |star, (v, ((normal, value), estimated))| {
+        .for_each_init(Star::default, |star, (v, (normal, operator))| {
             let v = v as u32;
             let sums = star.gather(mesh, v);
             *normal = sums.normal;
             let own = star.point_operator(mesh, v, &sums);
-            let operator =
+            *operator =
                 if options.boundary_from_interior && topo.vertex_kind(v) == VertexKind::Boundary {
                     interior_mean(mesh, star, v).or(own)
                 } else {
                     own
-                };
-            if let Some(m) = operator {
-                (*value, *estimated) = (packed64(&m), true);
-            }
+                }
+                .map(|m| packed64(&m));
         });
     let direction_operators = direction_operators(mesh, &operators, &vertex_normals, options);
     let mut curvature = collect_estimates_with_normals(
         vertex_normals,
         || (),
         |_, v, normal| {
-            let Some(operator) = operators.get(v) else {
+            let Some(operator) = operators[v as usize].as_ref().map(symmetric64) else {
                 return VertexEstimate::fallback(normal);
             };
             let (k_max, k_min, dir_max, dir_min) = match &direction_operators {
@@ -530,23 +524,6 @@ type Sym6 = [f32; 6];
 /// operators, stored without loss in 48 bytes instead of `Option<Matrix3>`'s 80.
 type Sym6f64 = [f64; 6];
 
-/// The point operators of all vertices: 49 bytes per vertex where `Option<Sym6f64>` takes 56
-/// (they are the largest array alive at the curvature step's peak).
-struct PointOperators {
-    /// The operator of each vertex (zero where there is none).
-    values: Vec<Sym6f64>,
-    /// Whether the vertex has an operator (false: fallback value).
-    estimated: Vec<bool>,
-}
-
-impl PointOperators {
-    /// The operator of vertex `v`, if it was estimated.
-    fn get(&self, v: u32) -> Option<Matrix3> {
-        let v = v as usize;
-        self.estimated[v].then(|| symmetric64(&self.values[v]))
-    }
-}
-
 fn packed64(m: &Matrix3) -> Sym6f64 {
     [m.m11, m.m12, m.m13, m.m22, m.m23, m.m33]
 }
@@ -589,7 +566,7 @@ const ISOTROPIC_FRACTION: f64 = 0.3;
 /// direction error stays below 1°, against 3.7° with a uniform λ).
 fn direction_operators(
     mesh: &TriMesh,
-    operators: &PointOperators,
+    operators: &[Option<Sym6f64>],
     normals: &[Vec3],
     options: &ShapeOperatorOptions,
 ) -> Option<Vec<Sym6>> {
@@ -598,17 +575,15 @@ fn direction_operators(
         return None;
     }
     let topo = mesh.topology();
-    let n = normals.len();
-    let mut own: Vec<Sym6> = vec![[0.0; 6]; n];
-    let mut anisotropies: Vec<f32> = vec![0.0; n];
+    let mut own: Vec<Sym6> = vec![[0.0; 6]; operators.len()];
+    let mut anisotropies: Vec<f32> = vec![0.0; operators.len()];
     own.par_iter_mut()
         .zip(anisotropies.par_iter_mut())
-        .enumerate()
-        .for_each(|(v, (own, anisotropy))| {
-            if operators.estimated[v] {
-                let m = &operators.values[v];
+        .zip(operators.par_iter().zip(normals))
+        .for_each(|((own, anisotropy), (o, &n))| {
+            if let Some(m) = o {
                 *own = packed(m);
-                *anisotropy = self::anisotropy(&symmetric64(m), normals[v]) as f32;
+                *anisotropy = self::anisotropy(&symmetric64(m), n) as f32;
             }
         });
     let weights: Vec<f32> = (0..mesh.num_vertices() as u32)
