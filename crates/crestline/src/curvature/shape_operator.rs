@@ -213,12 +213,6 @@ pub fn edge_shape_operator(a: Vec3, b: Vec3, n1: Vec3, n2: Vec3) -> Option<EdgeS
     })
 }
 
-/// True when face `t` runs from `a` to `b` (in its cyclic order).
-#[inline]
-fn runs_from_to(t: [u32; 3], a: u32, b: u32) -> bool {
-    (t[0] == a && t[1] == b) || (t[1] == a && t[2] == b) || (t[2] == a && t[0] == b)
-}
-
 /// Unit normal and area of face `f` from one cross product (zero normal for a face made
 /// degenerate by [`TriMesh::with_positions`]).
 #[inline]
@@ -234,63 +228,144 @@ pub(crate) fn face_normal_and_area(mesh: &TriMesh, f: usize) -> (Vec3, f64) {
     (normal, 0.5 * norm)
 }
 
-/// Unit normals and areas of all faces (see [`face_normal_and_area`]).
-pub(crate) fn face_normals_and_areas(mesh: &TriMesh) -> (Vec<Vec3>, Vec<f64>) {
-    // Filled in place: rayon's `unzip` would gather pieces in the worker threads' heaps
-    // first, which the allocator then keeps.
-    let mut normals = vec![Vec3::zeros(); mesh.num_faces()];
-    let mut areas = vec![0.0; mesh.num_faces()];
-    normals
-        .par_iter_mut()
-        .zip(areas.par_iter_mut())
-        .enumerate()
-        .for_each(|(f, (normal, area))| (*normal, *area) = face_normal_and_area(mesh, f));
-    (normals, areas)
-}
-
-/// The edge operator of mesh edge `e`, oriented by its first face, or `None` for a boundary,
-/// non-manifold, folded or degenerate edge.
+/// The star of one vertex as the vertex operator needs it: its faces' unit normals and, per
+/// edge end, the neighbour and the face it belongs to (scratch space reused from vertex to
+/// vertex).
 ///
-/// Computed where it is used (twice per edge) rather than stored: a table of them would take
-/// 56 bytes per edge, more than the mesh itself per face.
-fn mesh_edge_operator(mesh: &TriMesh, face_normals: &[Vec3], e: u32) -> Option<EdgeShapeOperator> {
-    let topo = mesh.topology();
-    let &[f1, f2] = topo.edge_faces(e) else {
-        return None;
-    };
-    let faces = mesh.faces();
-    let [p, q] = topo.edge(e);
-    let (t1, t2) = (faces[f1 as usize], faces[f2 as usize]);
-    let (a, b) = if runs_from_to(t1, p, q) {
-        (p, q)
-    } else {
-        (q, p)
-    };
-    let n1 = face_normals[f1 as usize];
-    // A consistently oriented neighbour runs the other way; if it runs the same way its
-    // normal points to the other side and is flipped to measure the dihedral angle.
-    let n2 = if runs_from_to(t2, a, b) {
-        -face_normals[f2 as usize]
-    } else {
-        face_normals[f2 as usize]
-    };
-    edge_shape_operator(mesh.position(a), mesh.position(b), n1, n2)
+/// Every edge at a vertex has its faces in the vertex's star, so the vertex operator is built
+/// from the star alone: no per-face table of normals (32 bytes per face), no lookups in the
+/// edge tables, and the star's faces are read once for the vertex normal, the star area and
+/// the edge operators.
+#[derive(Default)]
+struct Star {
+    /// Unit normal of each face of the star, in [`crate::mesh::Topology::vertex_faces`] order.
+    normals: Vec<Vec3>,
+    /// The two other corners of each face, as `neighbour << 32 | position << 1 | runs`, with
+    /// `position` that of the face in the star and `runs` set when the face runs from the
+    /// vertex to the neighbour; sorted, so by increasing neighbour (the order of
+    /// [`crate::mesh::Topology::vertex_edges`], which fixes the order of the sums).
+    corners: Vec<u64>,
 }
 
-/// Area-weighted unit vertex normals from unit face normals and areas (zero when the vertex
-/// has no face or its normals cancel).
-fn area_weighted_normals(mesh: &TriMesh, face_normals: &[Vec3], face_areas: &[f64]) -> Vec<Vec3> {
-    let topo = mesh.topology();
-    (0..mesh.num_vertices() as u32)
-        .into_par_iter()
-        .map(|v| {
-            let mut n = Vec3::zeros();
-            for &f in topo.vertex_faces(v) {
-                n += face_normals[f as usize] * face_areas[f as usize];
+/// What [`Star::gather`] finds: the area-weighted unit vertex normal (zero when the vertex has
+/// no face or its normals cancel) and the star area.
+struct StarSums {
+    normal: Vec3,
+    area: f64,
+}
+
+impl Star {
+    /// Gathers the star of `v`: face normals and areas (as [`face_normal_and_area`]) and the
+    /// corners, sorted.
+    fn gather(&mut self, mesh: &TriMesh, v: u32) -> StarSums {
+        self.normals.clear();
+        self.corners.clear();
+        let faces = mesh.faces();
+        let (mut normal, mut area) = (Vec3::zeros(), 0.0);
+        for (i, &f) in mesh.topology().vertex_faces(v).iter().enumerate() {
+            let (n, a) = face_normal_and_area(mesh, f as usize);
+            normal += n * a;
+            area += a;
+            self.normals.push(n);
+            let t = faces[f as usize];
+            let c = if t[0] == v {
+                0
+            } else if t[1] == v {
+                1
+            } else {
+                2
+            };
+            let slot = (i as u64) << 1;
+            self.corners
+                .push(u64::from(t[(c + 1) % 3]) << 32 | slot | 1);
+            self.corners.push(u64::from(t[(c + 2) % 3]) << 32 | slot);
+        }
+        self.corners.sort_unstable();
+        StarSums {
+            normal: normal.try_normalize(0.0).unwrap_or_else(Vec3::zeros),
+            area,
+        }
+    }
+
+    /// `S(p) = ½ Σ_{e∋p} ⟨N_p, N_e⟩ S(e)` of the gathered vertex `v` for the unit normal
+    /// `normal`, and the number of edges that contributed: the manifold edges (a neighbour
+    /// shared by exactly two faces of the star), in increasing neighbour order.
+    fn integrated_operator(&self, mesh: &TriMesh, v: u32, normal: Vec3) -> (Matrix3, usize) {
+        // Accumulate the six distinct entries of the symmetric sum; nalgebra's general 3×3
+        // outer product would compute nine.
+        let (mut xx, mut xy, mut xz, mut yy, mut yz, mut zz) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let mut used = 0;
+        for run in self.corners.chunk_by(|a, b| a >> 32 == b >> 32) {
+            let &[first, second] = run else {
+                continue; // boundary (one face) or non-manifold (three or more) edge
+            };
+            let Some(op) = self.edge_operator(mesh, v, first, second) else {
+                continue;
+            };
+            let weight = 0.5 * normal.dot(&op.normal) * op.mean_curvature;
+            let w = op.across * weight;
+            let a = op.across;
+            xx += w.x * a.x;
+            xy += w.x * a.y;
+            xz += w.x * a.z;
+            yy += w.y * a.y;
+            yz += w.y * a.z;
+            zz += w.z * a.z;
+            used += 1;
+        }
+        (Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz), used)
+    }
+
+    /// The operator of the edge from `v` to the neighbour of the two corners, oriented by the
+    /// first of its faces in the topology ([`crate::mesh::Topology::edge_faces`]): `a → b` as
+    /// that face runs, `N₁` its normal, `N₂` the other face's, flipped when that face runs the
+    /// same way (inconsistent orientation), see the module docs.
+    ///
+    /// On a consistently oriented edge (the faces run opposite ways) the operator does not
+    /// depend on which face comes first, to the bit: swapping the faces negates the edge
+    /// vector, `N₁ × N₂` and `ê × N_e` exactly and leaves `N₁ + N₂` and `|N₁ − N₂|` as they
+    /// are. Otherwise the first face of the edge (in the topology) orients it, as there.
+    fn edge_operator(
+        &self,
+        mesh: &TriMesh,
+        v: u32,
+        first: u64,
+        second: u64,
+    ) -> Option<EdgeShapeOperator> {
+        let w = (first >> 32) as u32;
+        let runs = |c: u64| c & 1 == 1;
+        let normal = |c: u64| self.normals[(c as u32 >> 1) as usize];
+        let (first, second) = if runs(first) != runs(second) {
+            (first, second)
+        } else {
+            let topo = mesh.topology();
+            let e = topo.edge_between(v, w)?;
+            let face = |c: u64| topo.vertex_faces(v)[(c as u32 >> 1) as usize];
+            if topo.edge_faces(e).first() == Some(&face(first)) {
+                (first, second)
+            } else {
+                (second, first)
             }
-            n.try_normalize(0.0).unwrap_or_else(Vec3::zeros)
-        })
-        .collect()
+        };
+        let (a, b) = if runs(first) { (v, w) } else { (w, v) };
+        let n2 = if runs(first) == runs(second) {
+            -normal(second)
+        } else {
+            normal(second)
+        };
+        edge_shape_operator(mesh.position(a), mesh.position(b), normal(first), n2)
+    }
+
+    /// The point operator `3/area(star(p)) · S(p)` of the gathered vertex `v` (`None` when it
+    /// cannot be estimated: no faces, zero star area, zero normal or no usable edge).
+    fn point_operator(&self, mesh: &TriMesh, v: u32, sums: &StarSums) -> Option<Matrix3> {
+        let (star, normal) = (sums.area, sums.normal);
+        if star.is_nan() || star <= 0.0 || normal == Vec3::zeros() {
+            return None;
+        }
+        let (s, used) = self.integrated_operator(mesh, v, normal);
+        (used > 0).then(|| s * (3.0 / star))
+    }
 }
 
 /// The integrated vertex operators `S(p) = ½ Σ_{e∋p} ⟨N_p, N_e⟩ S(e)` of HPW sec. 3, one per
@@ -298,65 +373,14 @@ fn area_weighted_normals(mesh: &TriMesh, face_normals: &[Vec3], face_areas: &[f6
 ///
 /// Divide by `area(star(p)) / 3` for point values.
 pub fn vertex_shape_operators(mesh: &TriMesh, vertex_normals: &[Vec3]) -> Vec<Matrix3> {
-    let (normals, _) = face_normals_and_areas(mesh);
     (0..mesh.num_vertices() as u32)
         .into_par_iter()
-        .map(|v| integrated_operator(mesh, &normals, vertex_normals[v as usize], v).0)
+        .map_init(Star::default, |star, v| {
+            star.gather(mesh, v);
+            star.integrated_operator(mesh, v, vertex_normals[v as usize])
+                .0
+        })
         .collect()
-}
-
-/// `S(p)` of vertex `v` and the number of edges that contributed.
-#[inline]
-fn integrated_operator(
-    mesh: &TriMesh,
-    face_normals: &[Vec3],
-    normal: Vec3,
-    v: u32,
-) -> (Matrix3, usize) {
-    // Accumulate the six distinct entries of the symmetric sum; nalgebra's general 3×3
-    // outer product would compute nine.
-    let (mut xx, mut xy, mut xz, mut yy, mut yz, mut zz) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-    let mut used = 0;
-    for &e in mesh.topology().vertex_edges(v) {
-        let Some(op) = mesh_edge_operator(mesh, face_normals, e) else {
-            continue;
-        };
-        let weight = 0.5 * normal.dot(&op.normal) * op.mean_curvature;
-        let w = op.across * weight;
-        let a = op.across;
-        xx += w.x * a.x;
-        xy += w.x * a.y;
-        xz += w.x * a.z;
-        yy += w.y * a.y;
-        yz += w.y * a.z;
-        zz += w.z * a.z;
-        used += 1;
-    }
-    (Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz), used)
-}
-
-/// Point operator `3/area(star(p)) · S(p)` of vertex `v`, or `None` when it cannot be
-/// estimated (no faces, zero star area, zero normal or no usable edge).
-#[inline]
-fn point_operator(
-    mesh: &TriMesh,
-    face_normals: &[Vec3],
-    face_areas: &[f64],
-    vertex_normals: &[Vec3],
-    v: u32,
-) -> Option<Matrix3> {
-    let star: f64 = mesh
-        .topology()
-        .vertex_faces(v)
-        .iter()
-        .map(|&f| face_areas[f as usize])
-        .sum();
-    let normal = vertex_normals[v as usize];
-    if star.is_nan() || star <= 0.0 || normal == Vec3::zeros() {
-        return None;
-    }
-    let (s, used) = integrated_operator(mesh, face_normals, normal, v);
-    (used > 0).then(|| s * (3.0 / star))
 }
 
 /// Principal curvatures and unit directions `(k_max, k_min, dir_max, dir_min)` of a point
@@ -411,25 +435,29 @@ pub fn principal_curvatures(
 /// operator (HPW sec. 3) and the discrete extremalities (HPW eq. 4); see the module docs for
 /// the conventions, the boundary treatment and the fallbacks. Runs in parallel.
 pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvature {
-    // Memory: the face arrays live only while the point operators are built; the vertex
-    // normals become the result's normals; the extremalities are computed face by face
-    // without a per-face table (see `fill_extremalities`).
-    let (face_normals, face_areas) = face_normals_and_areas(mesh);
-    let vertex_normals = area_weighted_normals(mesh, &face_normals, &face_areas);
+    // Memory: the point operators are built from each vertex's star without per-face tables
+    // (see `Star`); the vertex normals become the result's normals; the extremalities are
+    // computed face by face without a per-face table (see `fill_extremalities`).
     let topo = mesh.topology();
-    let point = |v: u32| point_operator(mesh, &face_normals, &face_areas, &vertex_normals, v);
-    let operators: Vec<Option<Sym6f64>> = (0..mesh.num_vertices() as u32)
-        .into_par_iter()
-        .map(|v| {
-            if options.boundary_from_interior && topo.vertex_kind(v) == VertexKind::Boundary {
-                interior_mean(mesh, &face_areas, &point, v).or_else(|| point(v))
-            } else {
-                point(v)
-            }
-            .map(|m| packed64(&m))
-        })
-        .collect();
-    drop((face_normals, face_areas));
+    let mut vertex_normals = vec![Vec3::zeros(); mesh.num_vertices()];
+    let mut operators: Vec<Option<Sym6f64>> = vec![None; mesh.num_vertices()];
+    vertex_normals
+        .par_iter_mut()
+        .zip(operators.par_iter_mut())
+        .enumerate()
+        .for_each_init(Star::default, |star, (v, (normal, operator))| {
+            let v = v as u32;
+            let sums = star.gather(mesh, v);
+            *normal = sums.normal;
+            let own = star.point_operator(mesh, v, &sums);
+            *operator =
+                if options.boundary_from_interior && topo.vertex_kind(v) == VertexKind::Boundary {
+                    interior_mean(mesh, star, v).or(own)
+                } else {
+                    own
+                }
+                .map(|m| packed64(&m));
+        });
     let direction_operators = direction_operators(mesh, &operators, &vertex_normals, options);
     let mut curvature = collect_estimates_with_normals(
         vertex_normals,
@@ -468,13 +496,9 @@ pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvatu
     curvature
 }
 
-/// Star-area-weighted mean of the point operators of the interior neighbours of `v`.
-fn interior_mean(
-    mesh: &TriMesh,
-    face_areas: &[f64],
-    point: &impl Fn(u32) -> Option<Matrix3>,
-    v: u32,
-) -> Option<Matrix3> {
+/// Star-area-weighted mean of the point operators of the interior neighbours of `v` (`star`
+/// is scratch space).
+fn interior_mean(mesh: &TriMesh, star: &mut Star, v: u32) -> Option<Matrix3> {
     let topo = mesh.topology();
     let mut sum = Matrix3::zeros();
     let mut weight = 0.0;
@@ -482,12 +506,9 @@ fn interior_mean(
         if topo.vertex_kind(q) != VertexKind::Interior {
             continue;
         }
-        if let Some(op) = point(q) {
-            let w: f64 = topo
-                .vertex_faces(q)
-                .iter()
-                .map(|&f| face_areas[f as usize])
-                .sum();
+        let sums = star.gather(mesh, q);
+        if let Some(op) = star.point_operator(mesh, q, &sums) {
+            let w = sums.area;
             sum += op * w;
             weight += w;
         }
@@ -554,18 +575,17 @@ fn direction_operators(
         return None;
     }
     let topo = mesh.topology();
-    let own: Vec<Sym6> = operators
-        .par_iter()
-        .map(|o| o.as_ref().map_or([0.0; 6], packed))
-        .collect();
-    let anisotropies: Vec<f32> = operators
-        .par_iter()
-        .zip(normals)
-        .map(|(o, &n)| {
-            o.as_ref()
-                .map_or(0.0, |m| anisotropy(&symmetric64(m), n) as f32)
-        })
-        .collect();
+    let mut own: Vec<Sym6> = vec![[0.0; 6]; operators.len()];
+    let mut anisotropies: Vec<f32> = vec![0.0; operators.len()];
+    own.par_iter_mut()
+        .zip(anisotropies.par_iter_mut())
+        .zip(operators.par_iter().zip(normals))
+        .for_each(|((own, anisotropy), (o, &n))| {
+            if let Some(m) = o {
+                *own = packed(m);
+                *anisotropy = self::anisotropy(&symmetric64(m), n) as f32;
+            }
+        });
     let weights: Vec<f32> = (0..mesh.num_vertices() as u32)
         .into_par_iter()
         .map(|v| {
@@ -587,13 +607,16 @@ fn direction_operators(
         })
         .collect();
     drop(anisotropies);
-    let mut current = own.clone();
+    // The first sweep reads the vertices' own operators (D = S), the later ones the last
+    // sweep's result.
+    let mut current: Vec<Sym6> = Vec::new();
     let mut next = vec![[0.0f32; 6]; own.len()];
-    for _ in 0..options.direction_rings {
+    for ring in 0..options.direction_rings {
+        let source = if ring == 0 { &own } else { &current };
         next.par_iter_mut().enumerate().for_each(|(v, out)| {
             let mut sum = [0.0f32; 6];
             for q in topo.neighbors(v as u32) {
-                for (s, x) in sum.iter_mut().zip(current[q as usize]) {
+                for (s, x) in sum.iter_mut().zip(source[q as usize]) {
                     *s += x;
                 }
             }
@@ -602,6 +625,9 @@ fn direction_operators(
             }
         });
         std::mem::swap(&mut current, &mut next);
+        if ring == 0 && options.direction_rings > 1 {
+            next = vec![[0.0f32; 6]; own.len()];
+        }
     }
     Some(current)
 }
