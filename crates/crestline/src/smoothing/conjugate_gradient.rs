@@ -182,12 +182,6 @@ pub struct ConnectionSystem<'m> {
     options: ConjugateGradientOptions,
 }
 
-/// `w` with the sign of field `f` applied (an exact negation when the bit is set).
-#[inline(always)]
-fn signed(w: f64, flips: u32, f: usize) -> f64 {
-    w.signed(flips, f)
-}
-
 /// The two precisions the solvers compute in.
 trait Real: Copy + Default + std::ops::Add<Output = Self> + std::ops::Mul<Output = Self> {
     /// A stored weight in this precision.
@@ -411,14 +405,14 @@ impl<'m> ConnectionSystem<'m> {
                 if q >= v {
                     break;
                 }
-                sum += signed(w, flips, f) * u[q];
+                sum += w.signed(flips, f) * u[q];
             }
         } else {
             for (q, w, flips) in self.scaled_row(v, sqrt_d).rev() {
                 if q <= v {
                     break;
                 }
-                sum += signed(w, flips, f) * u[q];
+                sum += w.signed(flips, f) * u[q];
             }
         }
         sum
@@ -537,7 +531,7 @@ impl<'m> ConnectionSystem<'m> {
             .map(|v| {
                 let near: f64 = self
                     .row(v)
-                    .map(|(q, w, flips)| signed(w, flips, f) * sqrt_d[q] * x[q])
+                    .map(|(q, w, flips)| w.signed(flips, f) * sqrt_d[q] * x[q])
                     .sum();
                 self.scaled_rhs(v, x[v], sqrt_d) - (sqrt_d[v] * x[v] - near)
             })
@@ -555,7 +549,7 @@ impl<'m> ConnectionSystem<'m> {
                     .row(v)
                     .rev()
                     .map_while(|(q, w, flips)| {
-                        (q > v).then(|| signed(w, flips, f) * sqrt_d[q] * x[q])
+                        (q > v).then(|| w.signed(flips, f) * sqrt_d[q] * x[q])
                     })
                     .sum();
                 x[v] = sqrt_d[v] * x[v] - later;
@@ -673,14 +667,7 @@ impl<'m> ConnectionSystem<'m> {
             let target: [f64; K] = std::array::from_fn(|f| {
                 (0.25 * threshold[f]).max(ROUND_REDUCTION * ROUND_REDUCTION * rz[f])
             });
-            let limit = self.options.max_iterations - iterations;
-            match self.correction::<K>(&mut work, target, done, limit) {
-                Ok(used) => iterations += used,
-                Err(used) => {
-                    return Err(self
-                        .not_converged(iterations + used, worst_relative(&rz, &rhs_norm2, &done)));
-                }
-            }
+            iterations += self.correction::<K>(&mut work, target, done, iterations, &rhs_norm2)?;
             // x += e, then the residual of the new x in double precision.
             field_chunks(x)
                 .into_par_iter()
@@ -760,15 +747,20 @@ impl<'m> ConnectionSystem<'m> {
 
     /// One round of single-precision CG on `A e = r` from `e = 0`, for the fields not `skip`ped,
     /// until `r·D⁻¹r ≤ target` for each (`r` is updated to the residual of the correction).
-    /// Returns the iterations used, or as the error the iterations after which `limit` was
-    /// reached. Dot products are summed in double precision.
+    /// `before` is the number of iterations of the earlier rounds and `rhs_norm2` the sums
+    /// `b·D⁻¹b`, for the error messages. Returns the iterations used. Dot products are summed
+    /// in double precision.
+    ///
+    /// # Errors
+    /// [`Error::Solver`] when the iteration limit is reached or the iteration breaks down.
     fn correction<const K: usize>(
         &self,
         work: &mut Work<K>,
         target: [f64; K],
         skip: [bool; K],
-        limit: usize,
-    ) -> std::result::Result<usize, usize> {
+        before: usize,
+        rhs_norm2: &[f64; K],
+    ) -> Result<usize> {
         let Work { d, r, p, q, e } = work;
         let t = self.time as f32;
         // p = D⁻¹ r, e = 0; r·D⁻¹r.
@@ -793,8 +785,10 @@ impl<'m> ConnectionSystem<'m> {
         let mut done: [bool; K] = std::array::from_fn(|f| skip[f] || rz[f] <= target[f]);
         let mut iterations = 0;
         while !done.iter().all(|&d| d) {
-            if iterations == limit {
-                return Err(iterations);
+            if before + iterations == self.options.max_iterations {
+                return Err(
+                    self.not_converged(before + iterations, worst_relative(&rz, rhs_norm2, &done))
+                );
             }
             iterations += 1;
 
@@ -820,11 +814,7 @@ impl<'m> ConnectionSystem<'m> {
             let mut alpha = [0.0f32; K];
             for f in 0..K {
                 if !done[f] {
-                    let a = rz[f] / pq[f];
-                    if !(a.is_finite() && pq[f] > 0.0) {
-                        return Err(iterations);
-                    }
-                    alpha[f] = a as f32;
+                    alpha[f] = Self::step_length(rz[f], pq[f], before + iterations)? as f32;
                 }
             }
 
