@@ -3,6 +3,7 @@
 //! The CLI is thin: each subcommand (one file under `cmd/`) turns its arguments into the
 //! library's options structs, calls the library and writes the results.
 
+mod allocator;
 mod cmd;
 mod input;
 mod scene;
@@ -38,6 +39,7 @@ enum Command {
 }
 
 fn main() -> std::process::ExitCode {
+    allocator::return_large_blocks_when_freed();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Curvature(args) => cmd::curvature::run(args),

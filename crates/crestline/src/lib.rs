@@ -19,6 +19,8 @@
 //! Ridges: `e_max = 0`, `de_max/dt_max < 0`, `k_max > |k_min|`.
 //! Valleys: `e_min = 0`, `de_min/dt_min > 0`, `k_min < -|k_max|`.
 
+#![forbid(unsafe_code)]
+
 pub mod curvature;
 pub mod distance;
 pub mod error;
