@@ -55,12 +55,15 @@
 //! solver keeps its working vectors (residual, search direction, `A p`, correction) in single
 //! precision and refines in double (iterative refinement; e.g. Higham, *Accuracy and
 //! Stability of Numerical Algorithms*, 2nd ed., ch. 12): the right-hand side `b = M u` of the
-//! step is formed once in double precision; each round runs single-precision CG on the
+//! step stays fixed in double precision; each round runs single-precision CG on the
 //! correction equation `A e = r` from `e = 0`, then `x += e` and the true residual
 //! `r = b − A x` is recomputed in double precision. A round aims a little below the
 //! tolerance but asks for at most a 1e-5 reduction (what single precision reliably
 //! delivers), so one round usually suffices (igea and horse-x16: one round per step, with
 //! the iteration counts of the double-precision solver) and tight tolerances take several.
+//! Through the first round the start values stay in place and `b` is computed from them
+//! where it is needed; it is stored (8 bytes per vertex and field) only when a second round
+//! follows: on igea that array was 8 bytes per face of the peak memory.
 //! Dot products are summed in double precision. The stopping
 //! test is the double-precision residual, so the accuracy contract is unchanged; a round
 //! that fails to halve the residual ends with [`Error::Solver`] instead of looping. Measured
@@ -629,27 +632,30 @@ impl<'m> ConnectionSystem<'m> {
             q: vec![[0.0; K]; n],
             e: vec![[0.0; K]; n],
         };
-        // The right-hand side b = M x of the start values, kept in double precision for the
-        // whole step (the residuals of the later rounds are taken against it, not against the
-        // moving x); r = b − A x; sums of b·D⁻¹b and r·D⁻¹r.
-        let mut rhs = vec![[0.0f64; K]; n];
-        let [rhs_norm2, mut rz] = self.residual::<K>(x, &mut rhs, &mut work.r, true);
+        // The right-hand side b = M x₀ of the start values x₀ holds for the whole step (the
+        // residuals of later rounds are taken against it, not against the moving x). The
+        // first round reads it from x₀, which stays in `x` until the round is over; only a
+        // second round stores it (see the module docs). r = b − A x₀; sums of b·D⁻¹b and r·D⁻¹r.
+        let start = |j: usize| -> [f64; K] { std::array::from_fn(|f| x[f][j]) };
+        let rhs_of_start =
+            |v: usize, mass: f64| -> [f64; K] { std::array::from_fn(|f| mass * x[f][v]) };
+        let [rhs_norm2, mut rz] = self.residual::<K>(start, rhs_of_start, &mut work.r);
         if !(0..K).all(|f| rhs_norm2[f].is_finite() && rz[f].is_finite()) {
             return Err(not_finite());
         }
         // A field whose start values are further from the solution than zero starts at zero
-        // (then r = b).
+        // (then r = b); its iterate is e alone instead of x₀ + e.
         let cold: [bool; K] = std::array::from_fn(|f| rz[f] > rhs_norm2[f]);
         if cold.iter().any(|&c| c) {
-            field_chunks(x)
-                .into_par_iter()
-                .zip(work.r.par_chunks_mut(CHUNK))
-                .zip(rhs.par_chunks(CHUNK))
-                .for_each(|((mut xs, rs), bs)| {
-                    for (i, (r, b)) in rs.iter_mut().zip(bs).enumerate() {
+            work.r
+                .par_chunks_mut(CHUNK)
+                .enumerate()
+                .for_each(|(c, rs)| {
+                    for (i, r) in rs.iter_mut().enumerate() {
+                        let v = c * CHUNK + i;
+                        let mass = self.mass(v);
                         for f in (0..K).filter(|&f| cold[f]) {
-                            r[f] = b[f] as f32;
-                            xs[f][i] = 0.0;
+                            r[f] = (mass * x[f][v]) as f32;
                         }
                     }
                 });
@@ -661,6 +667,8 @@ impl<'m> ConnectionSystem<'m> {
             std::array::from_fn(|f| self.options.tolerance.powi(2) * rhs_norm2[f]);
         let mut done: [bool; K] = std::array::from_fn(|f| rz[f] <= threshold[f]);
         let mut iterations = 0;
+        let mut rhs: Vec<[f64; K]> = Vec::new();
+        let mut first = true;
         while !done.iter().all(|&d| d) {
             // Each round aims a little below the tolerance (so that one round usually
             // suffices), but no lower than single precision reliably reaches.
@@ -668,18 +676,47 @@ impl<'m> ConnectionSystem<'m> {
                 (0.25 * threshold[f]).max(ROUND_REDUCTION * ROUND_REDUCTION * rz[f])
             });
             iterations += self.correction::<K>(&mut work, target, done, iterations, &rhs_norm2)?;
-            // x += e, then the residual of the new x in double precision.
-            field_chunks(x)
-                .into_par_iter()
-                .zip(work.e.par_chunks(CHUNK))
-                .for_each(|(mut xs, es)| {
-                    for (i, e) in es.iter().enumerate() {
-                        for f in 0..K {
-                            xs[f][i] += f64::from(e[f]);
-                        }
+            // The residual of the new iterate in double precision, then x = iterate.
+            let next = if first {
+                // x still holds x₀: the iterate is x₀ + e (e for a cold field).
+                let e = &work.e;
+                let iterate = |j: usize| -> [f64; K] {
+                    std::array::from_fn(|f| {
+                        let base = if cold[f] { 0.0 } else { x[f][j] };
+                        base + f64::from(e[j][f])
+                    })
+                };
+                let [_, next] = self.residual::<K>(
+                    iterate,
+                    |v, mass| std::array::from_fn(|f| mass * x[f][v]),
+                    &mut work.r,
+                );
+                let converged = (0..K).all(|f| done[f] || next[f] <= threshold[f]);
+                if !converged {
+                    // A second round: b is kept from here on.
+                    rhs = (0..n)
+                        .into_par_iter()
+                        .with_min_len(CHUNK)
+                        .map(|v| {
+                            let mass = self.mass(v);
+                            std::array::from_fn(|f| mass * x[f][v])
+                        })
+                        .collect();
+                }
+                for (f, field) in x.iter_mut().enumerate() {
+                    if cold[f] {
+                        field.fill(0.0);
                     }
-                });
-            let [_, next] = self.residual::<K>(x, &mut rhs, &mut work.r, false);
+                }
+                add_correction(x, &work.e);
+                first = false;
+                next
+            } else {
+                add_correction(x, &work.e);
+                let (x, rhs) = (&*x, &rhs);
+                let iterate = |j: usize| -> [f64; K] { std::array::from_fn(|f| x[f][j]) };
+                self.residual::<K>(iterate, |v, _| rhs[v], &mut work.r)[1]
+            };
             for f in 0..K {
                 if done[f] {
                     continue;
@@ -705,36 +742,29 @@ impl<'m> ConnectionSystem<'m> {
         Ok(iterations)
     }
 
-    /// `r = b − A x` in double precision, stored in single precision; returns the sums of
-    /// `b·D⁻¹b` (when `first`, else zeros) and `r·D⁻¹r`. When `first`, `x` holds the start
-    /// values and `b = M x` is written to `rhs`; later calls read `b` from it.
+    /// `r = b − A x` in double precision for the iterate `x` (read through `iterate`) and the
+    /// right-hand side `b` (`rhs(v, m_v)`, given the mass), stored in single precision;
+    /// returns the sums of `b·D⁻¹b` and `r·D⁻¹r`.
     fn residual<const K: usize>(
         &self,
-        x: &[&mut [f64]],
-        rhs: &mut [[f64; K]],
+        iterate: impl Fn(usize) -> [f64; K] + Sync,
+        rhs: impl Fn(usize, f64) -> [f64; K] + Sync,
         r: &mut [[f32; K]],
-        first: bool,
     ) -> [[f64; K]; 2] {
         let (d, t) = (&self.diagonal, self.time);
         let sums = r
             .par_chunks_mut(CHUNK)
-            .zip(rhs.par_chunks_mut(CHUNK))
             .enumerate()
-            .map(|(c, (rs, bs))| {
+            .map(|(c, rs)| {
                 let mut sums = [[0.0; K]; 2];
-                for (i, (r, b)) in rs.iter_mut().zip(bs).enumerate() {
+                for (i, r) in rs.iter_mut().enumerate() {
                     let v = c * CHUNK + i;
-                    let near =
-                        self.neighbour_sum::<f64, K>(v, |j| std::array::from_fn(|f| x[f][j]));
-                    if first {
-                        let mass = self.mass(v);
-                        for f in 0..K {
-                            b[f] = mass * x[f][v];
-                            sums[0][f] += b[f] * b[f] / d[v];
-                        }
-                    }
+                    let near = self.neighbour_sum::<f64, K>(v, &iterate);
+                    let b = rhs(v, self.mass(v));
+                    let x = iterate(v);
                     for f in 0..K {
-                        let rv = b[f] - (d[v] * x[f][v] - t * near[f]);
+                        sums[0][f] += b[f] * b[f] / d[v];
+                        let rv = b[f] - (d[v] * x[f] - t * near[f]);
                         r[f] = rv as f32;
                         sums[1][f] += rv * rv / d[v];
                     }
@@ -908,6 +938,20 @@ fn add_up<const K: usize, const S: usize>(partials: &[[[f64; K]; S]]) -> [[f64; 
 
 /// The fields cut into [`CHUNK`]-row pieces, regrouped chunk by chunk (piece `f` of a group
 /// belongs to field `f`).
+/// `x += e` for every field.
+fn add_correction<const K: usize>(x: &mut [&mut [f64]], e: &[[f32; K]]) {
+    field_chunks(x)
+        .into_par_iter()
+        .zip(e.par_chunks(CHUNK))
+        .for_each(|(mut xs, es)| {
+            for (i, e) in es.iter().enumerate() {
+                for f in 0..K {
+                    xs[f][i] += f64::from(e[f]);
+                }
+            }
+        });
+}
+
 fn field_chunks<'a>(fields: &'a mut [&mut [f64]]) -> Vec<Vec<&'a mut [f64]>> {
     let mut groups: Vec<Vec<&'a mut [f64]>> = Vec::new();
     for field in fields.iter_mut() {

@@ -34,7 +34,7 @@ use crate::curvature::Curvature;
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3, mean_edge_length};
 
-use super::{DiffusionOperator, LinearSolver, cotan_weights, lumped_mass};
+use super::{DiffusionOperator, LinearSolver, cotan_weights_and_mass};
 
 /// Options of [`smooth_extremalities`].
 #[derive(Debug, Clone, PartialEq)]
@@ -213,7 +213,7 @@ impl<'m> ExtremalitySmoother<'m> {
                 "curvature fields do not match the mesh".into(),
             ));
         }
-        let mut weights = cotan_weights(mesh, mesh.positions());
+        let (mut weights, mass) = cotan_weights_and_mass(mesh, mesh.positions());
         if let Some(f) = &options.diffusion {
             if f.len() != n || f.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
                 return Err(Error::InvalidInput(format!(
@@ -229,7 +229,6 @@ impl<'m> ExtremalitySmoother<'m> {
         if options.crease_angle > 0.0 {
             attenuate_across_jumps(mesh, curvature, options.crease_angle, &mut weights);
         }
-        let mass = lumped_mass(mesh, mesh.positions());
         let h = mean_edge_length(mesh);
         let time = options.time_step * h * h;
         let flips = |dirs: &[Vec3]| -> Vec<bool> {

@@ -40,60 +40,122 @@ pub const MAX_COT: f64 = 1e3;
 /// Per-edge cotan weights `w_e = ½ Σ_faces cot(angle opposite e)`, clamped to `>= 0`,
 /// indexed like [`crate::mesh::Topology::edges`].
 pub fn cotan_weights(mesh: &TriMesh, positions: &[Vec3]) -> Vec<f64> {
+    (0..mesh.topology().num_edges() as u32)
+        .into_par_iter()
+        .map(|e| cotan_weight(mesh, positions, e))
+        .collect()
+}
+
+/// The cotan weight of edge `e` (see [`cotan_weights`]).
+#[inline]
+fn cotan_weight(mesh: &TriMesh, positions: &[Vec3], e: u32) -> f64 {
     let topo = mesh.topology();
     let faces = mesh.faces();
-    (0..topo.num_edges() as u32)
-        .into_par_iter()
-        .map(|e| {
-            let [a, b] = topo.edge(e);
-            let w: f64 = topo
-                .edge_faces(e)
-                .iter()
-                .map(|&f| {
-                    let t = faces[f as usize];
-                    let c = t.iter().copied().find(|&x| x != a && x != b).unwrap_or(a);
-                    let pc = positions[c as usize];
-                    let (u, v) = (positions[a as usize] - pc, positions[b as usize] - pc);
-                    let sin = u.cross(&v).norm();
-                    let cos = u.dot(&v);
-                    let cot = if sin > 0.0 {
-                        cos / sin
-                    } else {
-                        MAX_COT.copysign(cos)
-                    };
-                    0.5 * cot.clamp(-MAX_COT, MAX_COT)
-                })
-                .sum();
-            w.max(0.0)
+    let [a, b] = topo.edge(e);
+    let w: f64 = topo
+        .edge_faces(e)
+        .iter()
+        .map(|&f| {
+            let t = faces[f as usize];
+            let c = t.iter().copied().find(|&x| x != a && x != b).unwrap_or(a);
+            let pc = positions[c as usize];
+            let (u, v) = (positions[a as usize] - pc, positions[b as usize] - pc);
+            let sin = u.cross(&v).norm();
+            let cos = u.dot(&v);
+            let cot = if sin > 0.0 {
+                cos / sin
+            } else {
+                MAX_COT.copysign(cos)
+            };
+            0.5 * cot.clamp(-MAX_COT, MAX_COT)
         })
-        .collect()
+        .sum();
+    w.max(0.0)
 }
 
 /// Lumped mass: a third of the area of each vertex's star. Vertices without faces get the
 /// mean mass so that the system stays definite (their values are simply kept).
 pub fn lumped_mass(mesh: &TriMesh, positions: &[Vec3]) -> Vec<f64> {
+    let mut mass: Vec<f64> = (0..mesh.num_vertices() as u32)
+        .into_par_iter()
+        .map(|v| star_mass(mesh, positions, v))
+        .collect();
+    fill_empty_masses(&mut mass);
+    mass
+}
+
+/// A third of the area of the star of `v` (0 without faces).
+#[inline]
+fn star_mass(mesh: &TriMesh, positions: &[Vec3], v: u32) -> f64 {
     let faces = mesh.faces();
-    let topo = mesh.topology();
     let area = |f: u32| {
         let [a, b, c] = faces[f as usize].map(|i| positions[i as usize]);
         0.5 * (b - a).cross(&(c - a)).norm()
     };
-    let mut mass: Vec<f64> = (0..mesh.num_vertices() as u32)
-        .into_par_iter()
-        .map(|v| topo.vertex_faces(v).iter().map(|&f| area(f)).sum::<f64>() / 3.0)
-        .collect();
+    mesh.topology()
+        .vertex_faces(v)
+        .iter()
+        .map(|&f| area(f))
+        .sum::<f64>()
+        / 3.0
+}
+
+/// Gives vertices without mass the mean of the others (1 when none has any).
+fn fill_empty_masses(mass: &mut [f64]) {
     let (sum, count) = mass
         .iter()
         .filter(|&&m| m > 0.0)
         .fold((0.0, 0usize), |(s, c), &m| (s + m, c + 1));
     let fill = if count == 0 { 1.0 } else { sum / count as f64 };
-    for m in &mut mass {
+    for m in mass {
         if *m <= 0.0 {
             *m = fill;
         }
     }
-    mass
 }
+
+/// [`cotan_weights`] and [`lumped_mass`] in one pass over the vertices, with bit for bit the
+/// same values.
+///
+/// Each vertex computes its mass and the weights of the edges to its higher neighbours, whose
+/// faces are its own: the star's faces and positions are read once, where the two separate
+/// passes fetch them from scattered places twice. Edge ids run vertex by vertex (the edges
+/// `(v, w)`, `w > v`, by increasing `w`), so a block of vertices writes one range of weights.
+pub fn cotan_weights_and_mass(mesh: &TriMesh, positions: &[Vec3]) -> (Vec<f64>, Vec<f64>) {
+    let topo = mesh.topology();
+    let edges = topo.edges();
+    let n = mesh.num_vertices();
+    let mut weights = vec![0.0; edges.len()];
+    let mut mass = vec![0.0; n];
+    let mut blocks = Vec::with_capacity(n.div_ceil(VERTEX_BLOCK));
+    let (mut rest_w, mut rest_m) = (&mut weights[..], &mut mass[..]);
+    let mut first_edge = 0;
+    for start in (0..n).step_by(VERTEX_BLOCK) {
+        let end = (start + VERTEX_BLOCK).min(n);
+        let last_edge = edges.partition_point(|e| (e[0] as usize) < end);
+        let (w, tail_w) = rest_w.split_at_mut(last_edge - first_edge);
+        let (m, tail_m) = rest_m.split_at_mut(end - start);
+        blocks.push((start..end, first_edge, w, m));
+        (rest_w, rest_m, first_edge) = (tail_w, tail_m, last_edge);
+    }
+    blocks
+        .into_par_iter()
+        .for_each(|(vertices, first_edge, weights, mass)| {
+            let mut e = first_edge;
+            for (v, m) in vertices.zip(mass) {
+                *m = star_mass(mesh, positions, v as u32);
+                while e < first_edge + weights.len() && edges[e][0] as usize == v {
+                    weights[e - first_edge] = cotan_weight(mesh, positions, e as u32);
+                    e += 1;
+                }
+            }
+        });
+    fill_empty_masses(&mut mass);
+    (weights, mass)
+}
+
+/// Vertices per parallel work item of [`cotan_weights_and_mass`].
+const VERTEX_BLOCK: usize = 2048;
 
 /// How the implicit steps are solved.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -231,6 +293,38 @@ mod tests {
         for (e, &[a, b]) in m.topology().edges().iter().enumerate() {
             let expected = if (a, b) == (0, 2) { 0.0 } else { 0.5 };
             assert!((w[e] - expected).abs() < 1e-12, "edge {a}-{b}: {}", w[e]);
+        }
+    }
+
+    #[test]
+    fn fused_weights_and_mass_are_the_separate_ones() {
+        // Bit for bit, on a closed surface, an open one and a non-manifold soup.
+        let mut fin = shapes::torus(3.0, 1.0, 12, 8);
+        let mut soup = fin.faces().to_vec();
+        soup.push([0, 1, 40]);
+        soup.push([0, 1, 50]);
+        fin = TriMesh::from_arrays(
+            fin.positions().iter().map(|p| [p.x, p.y, p.z]).collect(),
+            soup,
+        )
+        .unwrap();
+        for m in [
+            shapes::ellipsoid(1.0, 0.7, 0.4, 3),
+            shapes::waving_disk(1.0, 6),
+            fin,
+        ] {
+            let (w, mass) = cotan_weights_and_mass(&m, m.positions());
+            let (w0, mass0) = (
+                cotan_weights(&m, m.positions()),
+                lumped_mass(&m, m.positions()),
+            );
+            assert!(w.iter().zip(&w0).all(|(a, b)| a.to_bits() == b.to_bits()));
+            assert!(
+                mass.iter()
+                    .zip(&mass0)
+                    .all(|(a, b)| a.to_bits() == b.to_bits())
+            );
+            assert_eq!((w.len(), mass.len()), (w0.len(), mass0.len()));
         }
     }
 

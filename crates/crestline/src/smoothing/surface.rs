@@ -16,7 +16,7 @@
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3, mean_edge_length};
 
-use super::{DiffusionOperator, LinearSolver, cotan_weights, lumped_mass};
+use super::{DiffusionOperator, LinearSolver, cotan_weights_and_mass};
 
 /// Which flow [`smooth_surface`] integrates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -85,11 +85,11 @@ pub fn smooth_surface(mesh: &TriMesh, options: &SurfaceSmoothing) -> Result<TriM
         };
         match &mut operator {
             None => {
-                let p = positions();
+                let (weights, mass) = cotan_weights_and_mass(mesh, &positions());
                 operator = Some(DiffusionOperator::new(
                     mesh,
-                    cotan_weights(mesh, &p),
-                    lumped_mass(mesh, &p),
+                    weights,
+                    mass,
                     time,
                     &[None, None, None],
                     options.solver,
@@ -98,8 +98,8 @@ pub fn smooth_surface(mesh: &TriMesh, options: &SurfaceSmoothing) -> Result<TriM
             // The mass changes with the positions in curvature flow; the operator holds the
             // mass of the step it was built for, as the implicit scheme requires.
             Some(op) if options.flow == Flow::MeanCurvature => {
-                let p = positions();
-                op.update(cotan_weights(mesh, &p), lumped_mass(mesh, &p), time)?;
+                let (weights, mass) = cotan_weights_and_mass(mesh, &positions());
+                op.update(weights, mass, time)?;
             }
             Some(_) => {}
         }
