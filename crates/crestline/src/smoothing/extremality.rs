@@ -136,26 +136,21 @@ impl DiffusionMask {
     }
 }
 
-/// Divides each edge weight by `1 + (J / crease_angle)²`, `J = |pq| · max(|Δk_max|, |Δk_min|)`.
-fn attenuate_across_jumps(
+/// What crease-aware diffusion divides the weight of edge `[a, b]` by: `1 + (J / crease_angle)²`
+/// with `J = |pq| · max(|Δk_max|, |Δk_min|)` (1 when `J / crease_angle` is not finite).
+#[inline]
+fn crease_divisor(
     mesh: &TriMesh,
     curvature: &Curvature,
     crease_angle: f64,
-    weights: &mut [f64],
-) {
+    [a, b]: [u32; 2],
+) -> f64 {
+    let length = (mesh.position(a) - mesh.position(b)).norm();
     let (k_max, k_min) = (&curvature.k_max, &curvature.k_min);
-    weights
-        .par_iter_mut()
-        .zip(mesh.topology().edges())
-        .for_each(|(w, &[a, b])| {
-            let length = (mesh.position(a) - mesh.position(b)).norm();
-            let (a, b) = (a as usize, b as usize);
-            let jump = (k_max[a] - k_max[b]).abs().max((k_min[a] - k_min[b]).abs()) * length;
-            let x = jump / crease_angle;
-            if x.is_finite() {
-                *w /= 1.0 + x * x;
-            }
-        });
+    let (a, b) = (a as usize, b as usize);
+    let jump = (k_max[a] - k_max[b]).abs().max((k_min[a] - k_min[b]).abs()) * length;
+    let x = jump / crease_angle;
+    if x.is_finite() { 1.0 + x * x } else { 1.0 }
 }
 
 /// Smooths `curvature.e_max` and `curvature.e_min` in place, keeping them consistent with
@@ -213,32 +208,39 @@ impl<'m> ExtremalitySmoother<'m> {
                 "curvature fields do not match the mesh".into(),
             ));
         }
-        let (mut weights, mass) = cotan_weights_and_mass(mesh, mesh.positions());
-        if let Some(f) = &options.diffusion {
-            if f.len() != n || f.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+        let factors = match &options.diffusion {
+            Some(f) if f.len() != n || f.iter().any(|x| !(x.is_finite() && *x >= 0.0)) => {
                 return Err(Error::InvalidInput(format!(
                     "diffusion factors: need {n} non-negative numbers, got {} values",
                     f.len()
                 )));
             }
-            weights
-                .par_iter_mut()
-                .zip(mesh.topology().edges())
-                .for_each(|(w, &[a, b])| *w *= 0.5 * (f[a as usize] + f[b as usize]));
-        }
-        if options.crease_angle > 0.0 {
-            attenuate_across_jumps(mesh, curvature, options.crease_angle, &mut weights);
-        }
+            other => other.as_deref(),
+        };
+        let (mut weights, mass) = cotan_weights_and_mass(mesh, mesh.positions());
+        // One pass over the edges: the local factors, the crease attenuation and both
+        // families' signs σ_pq = sign⟨dir(p), dir(q)⟩.
+        let edges = mesh.topology().edges();
+        let mut max_flips = vec![false; edges.len()];
+        let mut min_flips = vec![false; edges.len()];
+        let (dir_max, dir_min) = (&curvature.dir_max, &curvature.dir_min);
+        weights
+            .par_iter_mut()
+            .zip(max_flips.par_iter_mut().zip(min_flips.par_iter_mut()))
+            .zip(edges)
+            .for_each(|((w, (max_flip, min_flip)), &[a, b])| {
+                if let Some(f) = factors {
+                    *w *= 0.5 * (f[a as usize] + f[b as usize]);
+                }
+                if options.crease_angle > 0.0 {
+                    *w /= crease_divisor(mesh, curvature, options.crease_angle, [a, b]);
+                }
+                let (a, b) = (a as usize, b as usize);
+                *max_flip = dir_max[a].dot(&dir_max[b]) < 0.0;
+                *min_flip = dir_min[a].dot(&dir_min[b]) < 0.0;
+            });
         let h = mean_edge_length(mesh);
         let time = options.time_step * h * h;
-        let flips = |dirs: &[Vec3]| -> Vec<bool> {
-            mesh.topology()
-                .edges()
-                .par_iter()
-                .map(|&[a, b]| dirs[a as usize].dot(&dirs[b as usize]) < 0.0)
-                .collect()
-        };
-        let (max_flips, min_flips) = (flips(&curvature.dir_max), flips(&curvature.dir_min));
         let operator = DiffusionOperator::new(
             mesh,
             weights,
