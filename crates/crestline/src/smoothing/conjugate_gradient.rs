@@ -268,6 +268,9 @@ impl<'m> ConnectionSystem<'m> {
                  {flip_bits} signed fields"
             )));
         }
+        // Checked and in single precision before the rows are allocated: the double-precision
+        // weights are freed first (the largest transient of the smoothing set-up).
+        let weights = single_precision(topology, weights, &mass, time)?;
         let (offsets, lists) = topology.vertex_edge_rows();
         let edges = topology.edges();
         let mut entries = vec![0u32; lists.len()];
@@ -297,7 +300,7 @@ impl<'m> ConnectionSystem<'m> {
             fields,
             options,
         };
-        system.update(weights, mass, time)?;
+        system.fill(&weights, &mass, time);
         Ok(system)
     }
 
@@ -307,37 +310,17 @@ impl<'m> ConnectionSystem<'m> {
     /// [`Error::InvalidInput`] for mismatched lengths, negative or non-finite weights or
     /// time, or masses that are not positive and finite.
     pub fn update(&mut self, weights: Vec<f64>, mass: Vec<f64>, time: f64) -> Result<()> {
-        let topo = self.topology;
-        let (n, m) = (topo.num_vertices(), topo.num_edges());
-        if weights.len() != m || mass.len() != n {
-            return Err(Error::InvalidInput(format!(
-                "diffusion system: {} weights and {} masses for {m} edges and {n} vertices",
-                weights.len(),
-                mass.len()
-            )));
-        }
-        if !(time.is_finite() && time >= 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "diffusion time must be a non-negative number, got {time}"
-            )));
-        }
-        if weights
-            .par_iter()
-            .any(|&w| !((w as f32).is_finite() && w >= 0.0))
-        {
-            return Err(Error::InvalidInput(
-                "diffusion weights must be non-negative numbers (below 3.4e38)".into(),
-            ));
-        }
-        if mass.par_iter().any(|m| !(m.is_finite() && *m > 0.0)) {
-            return Err(Error::InvalidInput(
-                "diffusion masses must be positive numbers".into(),
-            ));
-        }
-        let (offsets, lists) = topo.vertex_edge_rows();
+        let weights = single_precision(self.topology, weights, &mass, time)?;
+        self.fill(&weights, &mass, time);
+        Ok(())
+    }
+
+    /// Fills the rows' weights and the diagonal from checked per-edge weights.
+    fn fill(&mut self, weights: &[f32], mass: &[f64], time: f64) {
+        let (offsets, lists) = self.topology.vertex_edge_rows();
         let mut stored = std::mem::take(&mut self.weights);
         stored.resize(lists.len(), 0.0);
-        let mut diagonal = vec![0.0; n];
+        let mut diagonal = vec![0.0; mass.len()];
         split_rows(&mut stored, offsets, CHUNK)
             .into_par_iter()
             .zip(diagonal.par_chunks_mut(CHUNK))
@@ -346,7 +329,7 @@ impl<'m> ConnectionSystem<'m> {
                 for (v, d) in rows.zip(ds) {
                     let mut sum = 0.0;
                     for k in offsets[v] as usize..offsets[v + 1] as usize {
-                        let w = weights[lists[k] as usize] as f32;
+                        let w = weights[lists[k] as usize];
                         piece[k - base] = w;
                         sum += f64::from(w);
                     }
@@ -356,7 +339,6 @@ impl<'m> ConnectionSystem<'m> {
         self.weights = stored;
         self.diagonal = diagonal;
         self.time = time;
-        Ok(())
     }
 
     /// The entries of row `v`: neighbours, weights `w_pq` and sign bits.
@@ -894,6 +876,43 @@ impl<'m> ConnectionSystem<'m> {
         }
         Ok(iterations)
     }
+}
+
+/// Checks the inputs of [`ConnectionSystem::update`] and returns the weights in single
+/// precision (the double-precision vector is consumed and freed).
+fn single_precision(
+    topology: &Topology,
+    weights: Vec<f64>,
+    mass: &[f64],
+    time: f64,
+) -> Result<Vec<f32>> {
+    let (n, m) = (topology.num_vertices(), topology.num_edges());
+    if weights.len() != m || mass.len() != n {
+        return Err(Error::InvalidInput(format!(
+            "diffusion system: {} weights and {} masses for {m} edges and {n} vertices",
+            weights.len(),
+            mass.len()
+        )));
+    }
+    if !(time.is_finite() && time >= 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "diffusion time must be a non-negative number, got {time}"
+        )));
+    }
+    if weights
+        .par_iter()
+        .any(|&w| !((w as f32).is_finite() && w >= 0.0))
+    {
+        return Err(Error::InvalidInput(
+            "diffusion weights must be non-negative numbers (below 3.4e38)".into(),
+        ));
+    }
+    if mass.par_iter().any(|m| !(m.is_finite() && *m > 0.0)) {
+        return Err(Error::InvalidInput(
+            "diffusion masses must be positive numbers".into(),
+        ));
+    }
+    Ok(weights.par_iter().map(|&w| w as f32).collect())
 }
 
 /// Each single-precision round of the Jacobi solver reduces the residual norm by this factor
