@@ -446,13 +446,14 @@ impl<'m> ConnectionSystem<'m> {
     }
 
     /// `Σ_q σ_vq w_vq u(q)` over the neighbours of `v` for every field, `u(q)` read
-    /// through `value`.
+    /// through `value`, and `Σ_q w_vq` in double precision, added in row order as
+    /// [`ConnectionSystem::mass`] adds it (the products that do not use it compile it away).
     #[inline(always)]
     fn neighbour_sum<T: Real, const K: usize>(
         &self,
         v: usize,
         value: impl Fn(usize) -> [T; K],
-    ) -> [T; K] {
+    ) -> ([T; K], f64) {
         // Two partial sums (even and odd entries) halve the chain of dependent additions,
         // which otherwise bounds the speed of the product.
         let (offsets, _) = self.topology.vertex_edge_rows();
@@ -467,16 +468,19 @@ impl<'m> ConnectionSystem<'m> {
             }
         };
         let (mut even, mut odd) = ([T::default(); K], [T::default(); K]);
+        let mut weight_sum = 0.0;
         let mut pairs = entries.chunks_exact(2).zip(weights.chunks_exact(2));
         for (c, w) in &mut pairs {
             term(&mut even, c[0], w[0]);
             term(&mut odd, c[1], w[1]);
+            weight_sum = weight_sum + f64::from(w[0]) + f64::from(w[1]);
         }
         if entries.len() % 2 == 1 {
             let last = entries.len() - 1;
             term(&mut even, entries[last], weights[last]);
+            weight_sum += f64::from(weights[last]);
         }
-        std::array::from_fn(|f| even[f] + odd[f])
+        (std::array::from_fn(|f| even[f] + odd[f]), weight_sum)
     }
 
     /// Right-hand side `b̂ = D^{-½} M x` of vertex `v` (`x` the unscaled value).
@@ -741,8 +745,8 @@ impl<'m> ConnectionSystem<'m> {
                 let mut sums = [[0.0; K]; 2];
                 for (i, r) in rs.iter_mut().enumerate() {
                     let v = c * CHUNK + i;
-                    let near = self.neighbour_sum::<f64, K>(v, &iterate);
-                    let b = rhs(v, self.mass(v));
+                    let (near, weight_sum) = self.neighbour_sum::<f64, K>(v, &iterate);
+                    let b = rhs(v, d[v] - t * weight_sum);
                     let x = iterate(v);
                     for f in 0..K {
                         sums[0][f] += b[f] * b[f] / d[v];
@@ -813,7 +817,7 @@ impl<'m> ConnectionSystem<'m> {
                     let mut pq = [0.0; K];
                     let ps = &p[c * CHUNK..c * CHUNK + qs.len()];
                     for (i, ((q, pv), &d)) in qs.iter_mut().zip(ps).zip(ds).enumerate() {
-                        let near = self.neighbour_sum::<f32, K>(c * CHUNK + i, |j| p[j]);
+                        let (near, _) = self.neighbour_sum::<f32, K>(c * CHUNK + i, |j| p[j]);
                         for f in 0..K {
                             q[f] = d * pv[f] - t * near[f];
                             pq[f] += f64::from(pv[f] * q[f]);
