@@ -694,11 +694,7 @@ impl<'m> ConnectionSystem<'m> {
                         })
                         .collect();
                 }
-                for (f, field) in x.iter_mut().enumerate() {
-                    if cold[f] {
-                        field.fill(0.0);
-                    }
-                }
+                zero_cold_fields(x, &cold);
                 add_correction(x, &work.e);
                 first = false;
                 next
@@ -729,6 +725,11 @@ impl<'m> ConnectionSystem<'m> {
                 rz[f] = next[f];
                 done[f] = rz[f] <= threshold[f];
             }
+        }
+        if first {
+            // No round ran (every field met the tolerance at its start): a cold field's
+            // start is zero.
+            zero_cold_fields(x, &cold);
         }
         Ok(iterations)
     }
@@ -980,6 +981,13 @@ fn add_up<const K: usize, const S: usize>(partials: &[[[f64; K]; S]]) -> [[f64; 
 
 /// The fields cut into [`CHUNK`]-row pieces, regrouped chunk by chunk (piece `f` of a group
 /// belongs to field `f`).
+/// Sets the fields that start cold (at zero instead of their values) to zero.
+fn zero_cold_fields<const K: usize>(x: &mut [&mut [f64]], cold: &[bool; K]) {
+    for (field, _) in x.iter_mut().zip(cold).filter(|(_, cold)| **cold) {
+        field.fill(0.0);
+    }
+}
+
 /// `x += e` for every field.
 fn add_correction<const K: usize>(x: &mut [&mut [f64]], e: &[[f32; K]]) {
     field_chunks(x)
@@ -1139,6 +1147,35 @@ mod tests {
                 })
             };
             assert_eq!(run(1), run(3), "{preconditioner:?}");
+        }
+    }
+
+    #[test]
+    fn a_cold_field_starts_at_zero_even_when_no_round_runs() {
+        // A rough field under a long step is further from the solution than zero, so it starts
+        // at zero; with a tolerance that zero already meets, that is the result.
+        let m = shapes::torus(3.0, 1.0, 24, 12);
+        let rough: Vec<f64> = (0..m.num_vertices())
+            .map(|v| if v % 2 == 0 { 1.0 } else { -1.0 })
+            .collect();
+        let h = crate::mesh::mean_edge_length(&m);
+        for tolerance in [2.0, 1e-8] {
+            let options = ConjugateGradientOptions::DEFAULT.with_tolerance(tolerance);
+            let s = system(&m, 50.0 * h * h, &[None], options);
+            let mut x = rough.clone();
+            let iterations = s.step(&mut [&mut x]).unwrap();
+            if tolerance > 1.0 {
+                assert_eq!(iterations, 0);
+                assert!(x.iter().all(|&v| v == 0.0));
+            } else {
+                assert!(iterations > 0);
+                let exact = apply(&m, 50.0 * h * h, None, &x);
+                let mass = lumped_mass(&m, m.positions());
+                for v in 0..m.num_vertices() {
+                    let b = mass[v] * rough[v];
+                    assert!((exact[v] - b).abs() < 1e-6 * mass[v], "{v}");
+                }
+            }
         }
     }
 
