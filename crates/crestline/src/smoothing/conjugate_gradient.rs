@@ -36,12 +36,13 @@
 //! `w_pq` as `f32`; per vertex only the diagonal `d_p` (the mass is recovered from it). About
 //! 28 bytes per face. The products turn an entry's sign bits into the fields' factors ±1 with
 //! one lookup in a 256-entry table rather than extracting each field's bit: on igea 8% fewer
-//! instructions for the whole `extract` run, the smoothing stage 11–20% faster. The matrix products read the rows front to back and gather only the
-//! neighbours' values: on a 1.5M-face mesh this took about 20% less CPU time than reaching
-//! the neighbour and an `f64` weight through the edge list (9 bytes per edge, about 22 per
-//! face with the mass and diagonal), whose random reads cost more than the extra bytes. The
-//! weights are rounded to single precision once ([`round_weights`]; a relative change below 6e-8, far
-//! below the tolerance) and the diagonal is summed from the rounded values, so the system
+//! instructions for the whole `extract` run, the smoothing stage 11–20% faster. The matrix
+//! products read the rows front to back and gather only the neighbours' values: on a
+//! 1.5M-face mesh this took about 20% less CPU time than reaching the neighbour and an `f64`
+//! weight through the edge list (9 bytes per edge, about 22 per face with the mass and
+//! diagonal), whose random reads cost more than the extra bytes. The weights are rounded to
+//! single precision once ([`round_weights`]; a relative change below 6e-8, far below the
+//! tolerance) and the diagonal is summed from the rounded values, so the system
 //! is still exactly symmetric, conserves `Σ M u` and keeps constants fixed (σ = +1); the
 //! other solvers are given the same rounded weights ([`super::DiffusionOperator`]).
 //!
@@ -191,19 +192,12 @@ pub struct ConnectionSystem<'m> {
 trait Real: Copy + Default + std::ops::Add<Output = Self> + std::ops::Mul<Output = Self> {
     /// A stored weight in this precision.
     fn from_weight(w: f32) -> Self;
-    /// The value with the sign of field `f` applied (an exact negation when bit `f` of
-    /// `flips` is set).
-    fn signed(self, flips: u32, f: usize) -> Self;
 }
 
 impl Real for f64 {
     #[inline(always)]
     fn from_weight(w: f32) -> Self {
         f64::from(w)
-    }
-    #[inline(always)]
-    fn signed(self, flips: u32, f: usize) -> Self {
-        f64::from_bits(self.to_bits() ^ (u64::from((flips >> f) & 1) << 63))
     }
 }
 
@@ -212,10 +206,13 @@ impl Real for f32 {
     fn from_weight(w: f32) -> Self {
         w
     }
-    #[inline(always)]
-    fn signed(self, flips: u32, f: usize) -> Self {
-        f32::from_bits(self.to_bits() ^ (((flips >> f) & 1) << 31))
-    }
+}
+
+/// `w` with the sign of field `f` applied (an exact negation when bit `f` of `flips` is set),
+/// for the row walks of the Gauss–Seidel solver; the Jacobi products use a [`SignTable`].
+#[inline(always)]
+fn signed(w: f64, flips: u32, f: usize) -> f64 {
+    f64::from_bits(w.to_bits() ^ (u64::from((flips >> f) & 1) << 63))
 }
 
 /// Rounds diffusion weights to single precision, the precision [`ConnectionSystem`] stores
@@ -392,14 +389,14 @@ impl<'m> ConnectionSystem<'m> {
                 if q >= v {
                     break;
                 }
-                sum += w.signed(flips, f) * u[q];
+                sum += signed(w, flips, f) * u[q];
             }
         } else {
             for (q, w, flips) in self.scaled_row(v, sqrt_d).rev() {
                 if q <= v {
                     break;
                 }
-                sum += w.signed(flips, f) * u[q];
+                sum += signed(w, flips, f) * u[q];
             }
         }
         sum
@@ -525,7 +522,7 @@ impl<'m> ConnectionSystem<'m> {
             .map(|v| {
                 let near: f64 = self
                     .row(v)
-                    .map(|(q, w, flips)| w.signed(flips, f) * sqrt_d[q] * x[q])
+                    .map(|(q, w, flips)| signed(w, flips, f) * sqrt_d[q] * x[q])
                     .sum();
                 self.scaled_rhs(v, x[v], sqrt_d) - (sqrt_d[v] * x[v] - near)
             })
@@ -543,7 +540,7 @@ impl<'m> ConnectionSystem<'m> {
                     .row(v)
                     .rev()
                     .map_while(|(q, w, flips)| {
-                        (q > v).then(|| w.signed(flips, f) * sqrt_d[q] * x[q])
+                        (q > v).then(|| signed(w, flips, f) * sqrt_d[q] * x[q])
                     })
                     .sum();
                 x[v] = sqrt_d[v] * x[v] - later;
