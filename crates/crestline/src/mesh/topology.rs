@@ -692,7 +692,7 @@ fn prefix_sums(counts: impl ExactSizeIterator<Item = u32>) -> Vec<u32> {
 
 /// Cuts `values` at `bounds` (increasing, from 0 to at most `values.len()`): one piece per
 /// pair of consecutive bounds.
-fn split_at<'a, T>(mut values: &'a mut [T], bounds: &[usize]) -> Vec<&'a mut [T]> {
+pub(crate) fn split_at<'a, T>(mut values: &'a mut [T], bounds: &[usize]) -> Vec<&'a mut [T]> {
     let mut pieces = Vec::with_capacity(bounds.len().saturating_sub(1));
     for pair in bounds.windows(2) {
         let (piece, rest) = values.split_at_mut(pair[1] - pair[0]);
@@ -848,15 +848,16 @@ pub(crate) fn split_rows<'a, T>(
     block: usize,
 ) -> Vec<(std::ops::Range<usize>, &'a mut [T])> {
     let rows = offsets.len().saturating_sub(1);
-    let mut pieces = Vec::with_capacity(rows.div_ceil(block.max(1)));
-    let mut rest = values;
-    for first in (0..rows).step_by(block.max(1)) {
-        let last = (first + block).min(rows);
-        let (piece, tail) = rest.split_at_mut((offsets[last] - offsets[first]) as usize);
-        pieces.push((first..last, piece));
-        rest = tail;
-    }
-    pieces
+    let firsts: Vec<usize> = (0..rows).step_by(block.max(1)).chain([rows]).collect();
+    let bounds: Vec<usize> = firsts
+        .iter()
+        .map(|&r| (offsets[r] - offsets[0]) as usize)
+        .collect();
+    firsts
+        .windows(2)
+        .map(|pair| pair[0]..pair[1])
+        .zip(split_at(values, &bounds))
+        .collect()
 }
 
 /// Compressed rows from (row, value) pairs: offsets of length `rows + 1` and values grouped by

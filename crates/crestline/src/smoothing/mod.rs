@@ -27,7 +27,7 @@ pub mod surface;
 use rayon::prelude::*;
 
 use crate::error::Result;
-use crate::mesh::{TriMesh, Vec3};
+use crate::mesh::{TriMesh, Vec3, split_at};
 
 pub use cholesky::{CholeskySystem, DiffusionPattern};
 pub use conjugate_gradient::{
@@ -127,22 +127,21 @@ pub fn cotan_weights_and_mass(mesh: &TriMesh, positions: &[Vec3]) -> (Vec<f64>, 
     let n = mesh.num_vertices();
     let mut weights = vec![0.0; edges.len()];
     let mut mass = vec![0.0; n];
-    let mut blocks = Vec::with_capacity(n.div_ceil(VERTEX_BLOCK));
-    let (mut rest_w, mut rest_m) = (&mut weights[..], &mut mass[..]);
-    let mut first_edge = 0;
-    for start in (0..n).step_by(VERTEX_BLOCK) {
-        let end = (start + VERTEX_BLOCK).min(n);
-        let last_edge = edges.partition_point(|e| (e[0] as usize) < end);
-        let (w, tail_w) = rest_w.split_at_mut(last_edge - first_edge);
-        let (m, tail_m) = rest_m.split_at_mut(end - start);
-        blocks.push((start..end, first_edge, w, m));
-        (rest_w, rest_m, first_edge) = (tail_w, tail_m, last_edge);
-    }
-    blocks
+    // Block b holds vertices from `b · VERTEX_BLOCK` and the edges from `edge_bounds[b]`.
+    let edge_bounds: Vec<usize> = (0..n)
+        .step_by(VERTEX_BLOCK)
+        .chain([n])
+        .map(|v| edges.partition_point(|e| (e[0] as usize) < v))
+        .collect();
+    split_at(&mut weights, &edge_bounds)
         .into_par_iter()
-        .for_each(|(vertices, first_edge, weights, mass)| {
+        .zip(mass.par_chunks_mut(VERTEX_BLOCK))
+        .enumerate()
+        .for_each(|(b, (weights, mass))| {
+            let first_edge = edge_bounds[b];
             let mut e = first_edge;
-            for (v, m) in vertices.zip(mass) {
+            for (i, m) in mass.iter_mut().enumerate() {
+                let v = b * VERTEX_BLOCK + i;
                 *m = star_mass(mesh, positions, v as u32);
                 while e < first_edge + weights.len() && edges[e][0] as usize == v {
                     weights[e - first_edge] = cotan_weight(mesh, positions, e as u32);
