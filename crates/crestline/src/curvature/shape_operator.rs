@@ -439,25 +439,25 @@ pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvatu
     // (see `Star`); the vertex normals become the result's normals; the extremalities are
     // computed face by face without a per-face table (see `fill_extremalities`).
     let topo = mesh.topology();
-    let mut vertex_normals = vec![Vec3::zeros(); mesh.num_vertices()];
-    let mut operators: Vec<Option<Sym6f64>> = vec![None; mesh.num_vertices()];
-    vertex_normals
-        .par_iter_mut()
-        .zip(operators.par_iter_mut())
-        .enumerate()
-        .for_each_init(Star::default, |star, (v, (normal, operator))| {
-            let v = v as u32;
+    // Collected in place by the worker threads (filling the arrays first, on one thread,
+    // took 20 ms on a 1.5M-face mesh).
+    let mut vertex_normals: Vec<Vec3> = Vec::new();
+    let mut operators: Vec<Option<Sym6f64>> = Vec::new();
+    (0..mesh.num_vertices() as u32)
+        .into_par_iter()
+        .map_init(Star::default, |star, v| {
             let sums = star.gather(mesh, v);
-            *normal = sums.normal;
             let own = star.point_operator(mesh, v, &sums);
-            *operator =
+            let operator =
                 if options.boundary_from_interior && topo.vertex_kind(v) == VertexKind::Boundary {
                     interior_mean(mesh, star, v).or(own)
                 } else {
                     own
                 }
                 .map(|m| packed64(&m));
-        });
+            (sums.normal, operator)
+        })
+        .unzip_into_vecs(&mut vertex_normals, &mut operators);
     let direction_operators = direction_operators(mesh, &operators, &vertex_normals, options);
     let mut curvature = collect_estimates_with_normals(
         vertex_normals,

@@ -142,11 +142,44 @@ impl MeshData {
 /// extension, [`Error::Parse`] naming the file and position for malformed contents.
 pub fn read_mesh(path: &Path, format: Option<Format>) -> Result<TriMesh> {
     let format = Format::resolve(path, format)?;
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = read_file(path).map_err(|e| Error::io(path, e))?;
     let data = parse_mesh_bytes(&bytes, format, path)?;
     // The file's bytes are no longer needed: freed before the connectivity is built.
     drop(bytes);
     data.into_mesh(path)
+}
+
+/// Files at least this large are read in pieces of this size, in parallel.
+const READ_PIECE: usize = 4 << 20;
+
+/// Reads a whole file, as [`std::fs::read`] does. A large file is read in pieces of
+/// [`READ_PIECE`] bytes by the worker threads, each piece into its place in one buffer: most of
+/// the time of reading a file the system has cached goes into copying it and into the first
+/// touch of the buffer's fresh pages, and both are then shared between the cores (an 84 MB
+/// file: see `BENCHMARKS.md`, session 7). Bytes appended while the pieces are read are read
+/// after them; a file that shrinks meanwhile gives an "unexpected end of file" error.
+pub(crate) fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    #[cfg(unix)]
+    {
+        use rayon::prelude::*;
+        use std::io::{Read, Seek, SeekFrom};
+        use std::os::unix::fs::FileExt;
+
+        let mut file = File::open(path)?;
+        let metadata = file.metadata()?;
+        let len = usize::try_from(metadata.len()).unwrap_or(usize::MAX);
+        if metadata.is_file() && len >= 2 * READ_PIECE && len < isize::MAX as usize {
+            let mut bytes = vec![0u8; len];
+            bytes
+                .par_chunks_mut(READ_PIECE)
+                .enumerate()
+                .try_for_each(|(i, piece)| file.read_exact_at(piece, (i * READ_PIECE) as u64))?;
+            file.seek(SeekFrom::Start(len as u64))?;
+            file.read_to_end(&mut bytes)?;
+            return Ok(bytes);
+        }
+    }
+    std::fs::read(path)
 }
 
 /// Parses a whole file held in memory and builds the mesh; `name` labels errors.
@@ -310,6 +343,21 @@ mod tests {
         let e = read_mesh(&path, None).unwrap_err();
         assert!(matches!(e, Error::Io { .. }));
         assert!(e.to_string().starts_with("/nonexistent/dir/m.obj: "), "{e}");
+    }
+
+    #[test]
+    fn large_files_read_in_pieces_come_back_whole() {
+        let dir = tempfile::tempdir().unwrap();
+        // Pieces of every kind: whole ones and a short last one; and a file below the size
+        // read in pieces.
+        for len in [2 * READ_PIECE + 12_345, 3 * READ_PIECE, READ_PIECE + 1] {
+            let bytes: Vec<u8> = (0..len).map(|i| (i * 7 + i / 4099) as u8).collect();
+            let path = dir.path().join(format!("f{len}.bin"));
+            std::fs::write(&path, &bytes).unwrap();
+            assert!(read_file(&path).unwrap() == bytes, "{len} bytes");
+        }
+        let e = read_file(&dir.path().join("missing")).unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::NotFound);
     }
 
     #[test]

@@ -25,13 +25,14 @@ pub fn assemble_lines(
     segments: &FamilySegments,
 ) -> Vec<FeatureLine> {
     let mut nodes: Vec<Node> = segments.segments.iter().flatten().copied().collect();
-    nodes.sort_unstable();
+    // Equal nodes are identical, so the unstable parallel sort gives one result.
+    nodes.par_sort_unstable();
     nodes.dedup();
     let index = |n: Node| nodes.binary_search(&n).unwrap_or(0);
 
     let links: Vec<(usize, usize)> = segments
         .segments
-        .iter()
+        .par_iter()
         .map(|&[a, b]| (index(a), index(b)))
         .collect();
     let paths = chain_links(nodes.len(), &links);
@@ -53,7 +54,7 @@ pub fn chain_links(num_nodes: usize, links: &[(usize, usize)]) -> Vec<(Vec<usize
         .filter(|(a, b)| a != b)
         .map(|&(a, b)| (a.min(b), a.max(b)))
         .collect();
-    links.sort_unstable();
+    links.par_sort_unstable();
     links.dedup();
 
     let mut offsets = vec![0usize; num_nodes + 1];

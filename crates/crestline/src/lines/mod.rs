@@ -106,22 +106,34 @@ pub struct TraceReport {
 }
 
 /// Steps 4–6 of HPW without filtering: traces both families in regular triangles, continues
-/// the lines through singular triangles and joins the segments into polylines.
+/// the lines through singular triangles and joins the segments into polylines. The two
+/// families are traced side by side (each family's joining of segments is partly sequential);
+/// the ridges come first in the result.
 pub fn trace_lines(mesh: &TriMesh, curvature: &Curvature) -> (FeatureLines, TraceReport) {
-    let mut report = TraceReport::default();
-    let mut lines = Vec::new();
-    for kind in [LineKind::Ridge, LineKind::Valley] {
+    let trace_family = |kind| {
         let family = trace::Family::of(curvature, kind);
         let mut segments = trace::trace_regular_triangles(mesh, &family);
-        report.regular_segments += segments.segments.len();
+        let regular = segments.segments.len();
         let singular = segments.singular_count();
         let cases = singular::process_singular_triangles(mesh, &mut segments);
-        match kind {
-            LineKind::Ridge => (report.singular_max, report.cases_max) = (singular, cases),
-            LineKind::Valley => (report.singular_min, report.cases_min) = (singular, cases),
-        }
-        lines.extend(assemble::assemble_lines(mesh, &family, &segments));
-    }
+        let lines = assemble::assemble_lines(mesh, &family, &segments);
+        (lines, regular, singular, cases)
+    };
+    let (
+        (mut lines, regular_max, singular_max, cases_max),
+        (valleys, regular_min, singular_min, cases_min),
+    ) = rayon::join(
+        || trace_family(LineKind::Ridge),
+        || trace_family(LineKind::Valley),
+    );
+    lines.extend(valleys);
+    let report = TraceReport {
+        singular_max,
+        singular_min,
+        regular_segments: regular_max + regular_min,
+        cases_max,
+        cases_min,
+    };
     (FeatureLines { lines }, report)
 }
 
@@ -134,15 +146,20 @@ pub fn trace_crest_lines(
     curvature: &Curvature,
     gaps: Option<&gap::GapJumping>,
 ) -> (FeatureLines, usize) {
-    let mut lines = Vec::new();
-    for kind in [LineKind::Ridge, LineKind::Valley] {
+    // The two families side by side, ridges first in the result.
+    let trace_family = |kind| {
         let family = trace::Family::of(curvature, kind);
         let segments = trace_edges::trace_crest_edges(mesh, &family);
         let mut family_lines = assemble::assemble_lines(mesh, &family, &segments);
         trace_edges::place_junctions(mesh, &family, &mut family_lines);
-        lines.extend(family_lines);
-    }
-    let mut lines = FeatureLines { lines };
+        family_lines
+    };
+    let (mut ridges, valleys) = rayon::join(
+        || trace_family(LineKind::Ridge),
+        || trace_family(LineKind::Valley),
+    );
+    ridges.extend(valleys);
+    let mut lines = FeatureLines { lines: ridges };
     let joins = gaps.map_or(0, |options| {
         jump_crest_gaps(mesh, curvature, &mut lines, options)
     });
