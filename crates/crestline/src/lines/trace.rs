@@ -124,29 +124,47 @@ impl FamilySegments {
 
 /// Traces the feature-line segments of `family` in every regular triangle.
 pub fn trace_regular_triangles(mesh: &TriMesh, family: &Family<'_>) -> FamilySegments {
-    let signs_of = |f: usize| {
-        let t = mesh.faces()[f];
-        consistent_signs(t.map(|v| family.dirs[v as usize]))
-    };
-    // Two passes (the signs are cheap to redo) rather than one table of per-face results,
-    // which took 20 bytes per face at the peak of the tracing stage.
-    let regular: Vec<bool> = (0..mesh.num_faces())
-        .into_par_iter()
-        .map(|f| signs_of(f).is_some())
-        .collect();
-    let (segments, segment_faces): (Vec<[Node; 2]>, Vec<u32>) = (0..mesh.num_faces())
-        .into_par_iter()
-        .filter_map(|f| {
-            let signs = signs_of(f)?;
-            feature_segment(mesh, family, f as u32, signs).map(|s| (s, f as u32))
+    // One pass: each block of faces notes which are regular and keeps its segments; the
+    // blocks' segments are then joined in order. (Two passes, one for the regular faces and
+    // one for the segments, computed every face's signs twice: 60% more time on a 1.5M-face
+    // mesh.)
+    let faces = mesh.faces();
+    let mut regular = vec![false; faces.len()];
+    let blocks: Vec<(Vec<[Node; 2]>, Vec<u32>)> = regular
+        .par_chunks_mut(FACE_BLOCK)
+        .enumerate()
+        .map(|(b, regular)| {
+            let (mut segments, mut segment_faces) = (Vec::new(), Vec::new());
+            for (i, is_regular) in regular.iter_mut().enumerate() {
+                let f = (b * FACE_BLOCK + i) as u32;
+                let t = faces[f as usize];
+                let Some(signs) = consistent_signs(t.map(|v| family.dirs[v as usize])) else {
+                    continue;
+                };
+                *is_regular = true;
+                if let Some(segment) = feature_segment(mesh, family, f, signs) {
+                    segments.push(segment);
+                    segment_faces.push(f);
+                }
+            }
+            (segments, segment_faces)
         })
-        .unzip();
+        .collect();
+    let count = blocks.iter().map(|(s, _)| s.len()).sum();
+    let (mut segments, mut segment_faces) = (Vec::with_capacity(count), Vec::with_capacity(count));
+    for (s, f) in blocks {
+        segments.extend(s);
+        segment_faces.extend(f);
+    }
     FamilySegments {
         regular,
         segments,
         segment_faces,
     }
 }
+
+/// Faces per parallel work item of [`trace_regular_triangles`].
+const FACE_BLOCK: usize = 4096;
 
 /// The feature segment of a regular face, if its zero set is non-empty and eqs. 5–6 hold.
 fn feature_segment(
