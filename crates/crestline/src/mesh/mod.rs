@@ -152,17 +152,19 @@ impl TriMesh {
     /// The same mesh with the faces `f` where `flip[f]` wound the other way (corners 1 and 2
     /// swapped). The connectivity does not depend on the winding: it is kept, not rebuilt.
     #[cfg(test)]
-    pub(crate) fn with_flipped_faces(self, flip: &[bool]) -> TriMesh {
-        self.with_faces_flipped_where(|f, _| flip[f])
+    pub(crate) fn with_flipped_faces(mut self, flip: &[bool]) -> TriMesh {
+        Arc::make_mut(&mut self.topology).flip_faces(|f, _| flip[f], false);
+        self
     }
 
-    /// The same mesh with the faces for which `flip(index, corners)` holds wound the other
-    /// way (corners 1 and 2 swapped); the connectivity is kept, not rebuilt.
-    pub(crate) fn with_faces_flipped_where(
+    /// The same mesh with the faces of the connected components for which
+    /// `flip(index, corners)` holds wound the other way (corners 1 and 2 swapped); `flip` must
+    /// hold for all the faces of a component or none. The connectivity is kept, not rebuilt.
+    pub(crate) fn with_components_flipped_where(
         mut self,
         flip: impl Fn(usize, &[u32; 3]) -> bool + Sync,
     ) -> TriMesh {
-        Arc::make_mut(&mut self.topology).flip_faces(flip);
+        Arc::make_mut(&mut self.topology).flip_faces(flip, true);
         self
     }
 

@@ -69,25 +69,22 @@ fn classify(mesh: &TriMesh) -> (Orientation, Components) {
     let topo = mesh.topology();
     let faces = mesh.faces();
     let (vertex_component, count) = topo.vertex_components(faces);
-    let component = |f: usize| vertex_component[faces[f][0] as usize] as usize;
-    // Per component: not closed, not consistent.
+    // Per component: not closed, not consistent; read off the vertices' edge flags, which the
+    // connectivity found while sorting the stars (an edge's component is its vertices').
     let open: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
     let inconsistent: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
-    (0..topo.num_edges() as u32).into_par_iter().for_each(|e| {
-        let edge_faces = topo.edge_faces(e);
-        let Some(&first) = edge_faces.first() else {
+    vertex_component.par_iter().enumerate().for_each(|(v, &c)| {
+        // Unreferenced vertices have no component (and no edges).
+        let (Some(open), Some(inconsistent)) = (open.get(c as usize), inconsistent.get(c as usize))
+        else {
             return;
         };
-        let c = component(first as usize);
-        match *edge_faces {
-            [f, g] => {
-                let edge = topo.edge(e);
-                if runs_forward(&faces[f as usize], edge) == runs_forward(&faces[g as usize], edge)
-                {
-                    inconsistent[c].store(true, Relaxed);
-                }
-            }
-            _ => open[c].store(true, Relaxed),
+        let v = v as u32;
+        if topo.has_open_edge(v) {
+            open.store(true, Relaxed);
+        }
+        if topo.has_inconsistent_edge(v) {
+            inconsistent.store(true, Relaxed);
         }
     });
     let open: Vec<bool> = open.into_iter().map(AtomicBool::into_inner).collect();
@@ -151,13 +148,6 @@ fn classify(mesh: &TriMesh) -> (Orientation, Components) {
     (report, components)
 }
 
-/// Whether `triangle` runs through `edge` from its first (smaller) to its second vertex. Read
-/// off the corners: cheaper than looking up the triangle's edges.
-fn runs_forward(triangle: &[u32; 3], [a, b]: [u32; 2]) -> bool {
-    let i = triangle.iter().position(|&v| v == a).unwrap_or(0);
-    triangle[(i + 1) % 3] == b
-}
-
 /// Signed volume of the tetrahedron of `triangle` and `centre` (positive when the triangle
 /// faces away from `centre`).
 fn tetrahedron_volume(mesh: &TriMesh, centre: Vec3, triangle: &[u32; 3]) -> f64 {
@@ -178,7 +168,7 @@ pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
         return Ok((mesh, report));
     }
     Ok((
-        mesh.with_faces_flipped_where(|_, t| components.is_inward(t)),
+        mesh.with_components_flipped_where(|_, t| components.is_inward(t)),
         report,
     ))
 }
@@ -261,6 +251,8 @@ mod tests {
         for v in 0..r.num_vertices() as u32 {
             assert_eq!(k.vertex_faces(v), r.vertex_faces(v));
             assert_eq!(k.vertex_edges(v), r.vertex_edges(v));
+            assert_eq!(k.has_open_edge(v), r.has_open_edge(v));
+            assert_eq!(k.has_inconsistent_edge(v), r.has_inconsistent_edge(v));
         }
         for f in 0..r.faces().len() as u32 {
             assert_eq!(k.face_edges(f), r.face_edges(f));
@@ -308,5 +300,26 @@ mod tests {
             (report.closed, report.inconsistent, report.inward),
             (0, 1, 0)
         );
+        // The same triangle reversed in place (the connectivity kept): the same verdict, and
+        // reversing it back makes the sphere consistent again.
+        let mut one = vec![false; sphere.num_faces()];
+        one[0] = true;
+        let reversed = sphere.clone().with_flipped_faces(&one);
+        assert_eq!(orientation(&reversed).0, report);
+        let back = reversed.with_flipped_faces(&one);
+        let (report, _) = orientation(&back);
+        assert_eq!(
+            (report.closed, report.inconsistent, report.inward),
+            (1, 0, 0)
+        );
+        // Only the corners of the reversed triangle have an inconsistent edge.
+        let topo = bad.topology();
+        for v in 0..bad.num_vertices() as u32 {
+            assert_eq!(topo.has_inconsistent_edge(v), bad.faces()[0].contains(&v));
+            assert!(!topo.has_open_edge(v));
+        }
+        let topo = down.topology();
+        let open = (0..down.num_vertices() as u32).filter(|&v| topo.has_open_edge(v));
+        assert_eq!(open.count(), 4 * 8);
     }
 }

@@ -84,7 +84,18 @@ pub struct Topology {
     /// part of a vertex's edges rather than stored: 12 bytes per face less.
     faces: Vec<[u32; 3]>,
     vertex_kinds: Vec<VertexKind>,
+    /// Per vertex, what its edges are: [`OPEN_EDGE`] and [`INCONSISTENT_EDGE`] bits, found
+    /// while its star is sorted (orientation checks then read one byte per vertex instead of
+    /// the faces of every edge).
+    vertex_edge_flags: Vec<u8>,
 }
+
+/// A bit of [`Topology::vertex_edge_flags`]: an edge of the vertex has one face or more than
+/// two.
+const OPEN_EDGE: u8 = 1;
+/// A bit of [`Topology::vertex_edge_flags`]: an edge of the vertex has two faces that run
+/// through it in the same direction (their windings disagree).
+const INCONSISTENT_EDGE: u8 = 2;
 
 impl Topology {
     /// Builds the connectivity of `faces` over `num_vertices` vertices.
@@ -125,24 +136,30 @@ impl Topology {
         let mut above_faces = vec![[0u32; 2]; room[room.len() - 1]];
         let mut counts = vec![[0u32; 2]; n];
         let mut vertex_kinds = vec![VertexKind::Unreferenced; n];
+        let mut vertex_edge_flags = vec![0u8; n];
         let many: Vec<Vec<u32>> = counts
             .par_chunks_mut(ROW_BLOCK)
             .zip(vertex_kinds.par_chunks_mut(ROW_BLOCK))
+            .zip(vertex_edge_flags.par_chunks_mut(ROW_BLOCK))
             .zip(split_at(&mut neighbours, &room))
             .zip(split_at(&mut above_faces, &room))
             .enumerate()
             .map_init(
                 Star::default,
-                |star, (b, (((counts, kinds), neighbours), pairs))| {
+                |star, (b, ((((counts, kinds), flags), neighbours), pairs))| {
                     let first = b * ROW_BLOCK;
                     // Entries written in the two rooms, and the non-manifold edges.
                     let (mut written, mut above, mut many) = (0, 0, Vec::new());
-                    for (i, (count, kind)) in counts.iter_mut().zip(kinds).enumerate() {
+                    for (i, ((count, kind), flags)) in
+                        counts.iter_mut().zip(kinds).zip(flags).enumerate()
+                    {
                         let v = first + i;
                         let (start, end) = (vertex_face_offsets[v], vertex_face_offsets[v + 1]);
                         let incident = &vertex_faces[start as usize..end as usize];
-                        star.gather(&others[start as usize..end as usize]);
+                        let corners = &others[start as usize..end as usize];
+                        star.gather(corners);
                         *kind = star.kind(incident.len());
+                        *flags = star.edge_flags(corners);
                         let before = written;
                         for r in 0..star.runs.len() {
                             let (w, shared) = star.run(r);
@@ -256,17 +273,56 @@ impl Topology {
             many_faces,
             faces: face_list,
             vertex_kinds,
+            vertex_edge_flags,
         }
     }
 
     /// Winds the faces for which `flip(index, corners)` holds the other way (swaps their
     /// corners 1 and 2). Nothing else changes: the connectivity does not depend on the winding.
-    pub(crate) fn flip_faces(&mut self, flip: impl Fn(usize, &[u32; 3]) -> bool + Sync) {
+    /// The consistency of the windings does; it is found again, unless `whole_components`
+    /// says that `flip` takes all the faces of a connected component or none (which keeps it).
+    pub(crate) fn flip_faces(
+        &mut self,
+        flip: impl Fn(usize, &[u32; 3]) -> bool + Sync,
+        whole_components: bool,
+    ) {
         self.faces.par_iter_mut().enumerate().for_each(|(f, t)| {
             if flip(f, t) {
                 t.swap(1, 2);
             }
         });
+        if whole_components {
+            return;
+        }
+        let mut flags = std::mem::take(&mut self.vertex_edge_flags);
+        flags.par_iter_mut().enumerate().for_each(|(v, flags)| {
+            let inconsistent = self.vertex_edges(v as u32).iter().any(|&e| {
+                let edge = self.edge(e);
+                match *self.edge_faces(e) {
+                    [f, g] => {
+                        runs_through(&self.faces[f as usize], edge)
+                            == runs_through(&self.faces[g as usize], edge)
+                    }
+                    _ => false,
+                }
+            });
+            *flags =
+                (*flags & !INCONSISTENT_EDGE) | if inconsistent { INCONSISTENT_EDGE } else { 0 };
+        });
+        self.vertex_edge_flags = flags;
+    }
+
+    /// True when an edge of `v` has one face or more than two (see [`Topology::edge_faces`]).
+    #[inline]
+    pub fn has_open_edge(&self, v: u32) -> bool {
+        self.vertex_edge_flags[v as usize] & OPEN_EDGE != 0
+    }
+
+    /// True when an edge of `v` has two faces that run through it in the same direction:
+    /// their windings disagree.
+    #[inline]
+    pub fn has_inconsistent_edge(&self, v: u32) -> bool {
+        self.vertex_edge_flags[v as usize] & INCONSISTENT_EDGE != 0
     }
 
     /// Number of vertices (including unreferenced ones).
@@ -794,6 +850,25 @@ impl Star {
         }
     }
 
+    /// The [`OPEN_EDGE`] and [`INCONSISTENT_EDGE`] bits of the vertex whose star was
+    /// gathered from `others` (its faces' other corners, next then previous): an edge to a
+    /// neighbour runs the same way through its two faces when the neighbour comes next in
+    /// both or previous in both.
+    fn edge_flags(&self, others: &[[u32; 2]]) -> u8 {
+        let mut flags = 0;
+        for r in 0..self.runs.len() {
+            match self.run(r) {
+                (w, &[a, b]) => {
+                    if (others[position(a)][0] == w) == (others[position(b)][0] == w) {
+                        flags |= INCONSISTENT_EDGE;
+                    }
+                }
+                _ => flags |= OPEN_EDGE,
+            }
+        }
+        flags
+    }
+
     /// Neighbour `r` (in increasing order) and its corners: the faces it shares with the
     /// vertex, by increasing position (see [`position`]).
     fn run(&self, r: usize) -> (u32, &[u64]) {
@@ -865,6 +940,12 @@ impl Star {
 
 /// The position of the face of a corner of [`Star::corners`] in the vertex's face list.
 #[inline]
+/// Whether `triangle` runs through `edge` from its first to its second vertex.
+fn runs_through(triangle: &[u32; 3], [a, b]: [u32; 2]) -> bool {
+    let i = triangle.iter().position(|&v| v == a).unwrap_or(0);
+    triangle[(i + 1) % 3] == b
+}
+
 fn position(corner: u64) -> usize {
     (corner & 0xffff_ffff) as usize
 }
