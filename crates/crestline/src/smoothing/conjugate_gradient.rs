@@ -317,8 +317,12 @@ impl<'m> ConnectionSystem<'m> {
     /// Fills the rows' weights and the diagonal from checked per-edge weights.
     fn fill(&mut self, weights: &[f32], mass: &[f64], time: f64) {
         let (offsets, lists) = self.topology.vertex_edge_rows();
+        // Every entry is written below: a new array is a zeroed allocation (pages the system
+        // zeroes on first touch, in parallel below) rather than filled on one thread.
         let mut stored = std::mem::take(&mut self.weights);
-        stored.resize(lists.len(), 0.0);
+        if stored.len() != lists.len() {
+            stored = vec![0.0; lists.len()];
+        }
         let mut diagonal = vec![0.0; mass.len()];
         split_rows(&mut stored, offsets, CHUNK)
             .into_par_iter()
