@@ -419,6 +419,16 @@ impl<'m> ConnectionSystem<'m> {
     /// the iteration breaks down (non-finite values) or does not reach the tolerance within
     /// [`ConjugateGradientOptions::max_iterations`].
     pub fn step(&self, fields: &mut [&mut [f64]]) -> Result<usize> {
+        self.steps(fields, 1)
+    }
+
+    /// `count` steps, each from the result of the last ([`ConnectionSystem::step`] repeated,
+    /// sharing the solver's working memory). Returns the iterations of all steps (of the
+    /// slowest field, per step, for Gauss–Seidel).
+    ///
+    /// # Errors
+    /// As [`ConnectionSystem::step`].
+    pub fn steps(&self, fields: &mut [&mut [f64]], count: usize) -> Result<usize> {
         let n = self.diagonal.len();
         if fields.len() != self.fields || fields.iter().any(|f| f.len() != n) {
             return Err(Error::InvalidInput(format!(
@@ -426,24 +436,30 @@ impl<'m> ConnectionSystem<'m> {
                 self.fields
             )));
         }
-        if n == 0 {
+        if n == 0 || count == 0 {
             return Ok(0);
         }
         match self.options.preconditioner {
-            Preconditioner::SymmetricGaussSeidel => fields
-                .par_iter_mut()
-                .enumerate()
-                .map(|(f, x)| self.solve_gauss_seidel(f, x))
-                .try_reduce(|| 0, |a, b| Ok(a.max(b))),
+            Preconditioner::SymmetricGaussSeidel => {
+                let mut iterations = 0;
+                for _ in 0..count {
+                    iterations += fields
+                        .par_iter_mut()
+                        .enumerate()
+                        .map(|(f, x)| self.solve_gauss_seidel(f, x))
+                        .try_reduce(|| 0, |a, b| Ok(a.max(b)))?;
+                }
+                Ok(iterations)
+            }
             Preconditioner::Jacobi => match fields.len() {
-                1 => self.solve_jacobi::<1>(fields),
-                2 => self.solve_jacobi::<2>(fields),
-                3 => self.solve_jacobi::<3>(fields),
-                4 => self.solve_jacobi::<4>(fields),
-                5 => self.solve_jacobi::<5>(fields),
-                6 => self.solve_jacobi::<6>(fields),
-                7 => self.solve_jacobi::<7>(fields),
-                _ => self.solve_jacobi::<8>(fields),
+                1 => self.solve_jacobi::<1>(fields, count),
+                2 => self.solve_jacobi::<2>(fields, count),
+                3 => self.solve_jacobi::<3>(fields, count),
+                4 => self.solve_jacobi::<4>(fields, count),
+                5 => self.solve_jacobi::<5>(fields, count),
+                6 => self.solve_jacobi::<6>(fields, count),
+                7 => self.solve_jacobi::<7>(fields, count),
+                _ => self.solve_jacobi::<8>(fields, count),
             },
         }
     }
@@ -615,7 +631,10 @@ impl<'m> ConnectionSystem<'m> {
     ///
     /// With `z = D⁻¹ r`, `r·z = ‖D^{-½} r‖²`: the iterates are those of plain CG on the
     /// symmetrically scaled system, and so is the stopping test.
-    fn solve_jacobi<const K: usize>(&self, x: &mut [&mut [f64]]) -> Result<usize> {
+    ///
+    /// Takes `steps` steps, each from the result of the last, with one set of working vectors
+    /// (allocating them for every step maps and faults in 20 bytes per vertex again).
+    fn solve_jacobi<const K: usize>(&self, x: &mut [&mut [f64]], steps: usize) -> Result<usize> {
         let n = self.diagonal.len();
         let mut work = Work::<K> {
             d: self.diagonal.par_iter().map(|&d| d as f32).collect(),
@@ -624,6 +643,20 @@ impl<'m> ConnectionSystem<'m> {
             q: vec![[0.0; K]; n],
             e: vec![[0.0; K]; n],
         };
+        let mut iterations = 0;
+        for _ in 0..steps {
+            iterations += self.jacobi_step(x, &mut work)?;
+        }
+        Ok(iterations)
+    }
+
+    /// One step of [`ConnectionSystem::solve_jacobi`]; returns its iterations.
+    fn jacobi_step<const K: usize>(
+        &self,
+        x: &mut [&mut [f64]],
+        work: &mut Work<K>,
+    ) -> Result<usize> {
+        let n = self.diagonal.len();
         // The right-hand side b = M x₀ of the start values x₀ holds for the whole step (the
         // residuals of later rounds are taken against it, not against the moving x). The
         // first round reads it from x₀, which stays in `x` until the round is over; only a
@@ -667,7 +700,7 @@ impl<'m> ConnectionSystem<'m> {
             let target: [f64; K] = std::array::from_fn(|f| {
                 (0.25 * threshold[f]).max(ROUND_REDUCTION * ROUND_REDUCTION * rz[f])
             });
-            iterations += self.correction::<K>(&mut work, target, done, iterations, &rhs_norm2)?;
+            iterations += self.correction::<K>(work, target, done, iterations, &rhs_norm2)?;
             // The residual of the new iterate in double precision, then x = iterate.
             let next = if first {
                 // x still holds x₀: the iterate is x₀ + e (e for a cold field).

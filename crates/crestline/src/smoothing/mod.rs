@@ -262,9 +262,24 @@ impl<'m> DiffusionOperator<'m> {
     /// [`crate::Error::InvalidInput`] for a wrong number or length of fields;
     /// [`crate::Error::Solver`] when conjugate gradients do not converge.
     pub fn step(&self, fields: &mut [&mut [f64]]) -> Result<usize> {
+        self.steps(fields, 1)
+    }
+
+    /// `count` steps, each from the result of the last (conjugate gradients keep their
+    /// working vectors from step to step). Returns the conjugate-gradient iterations of all
+    /// steps (0 for Cholesky).
+    ///
+    /// # Errors
+    /// As [`DiffusionOperator::step`].
+    pub fn steps(&self, fields: &mut [&mut [f64]], count: usize) -> Result<usize> {
         match &self.solver {
-            Solver::ConjugateGradient(s) => s.step(fields),
-            Solver::Cholesky(s) => s.step(fields).map(|()| 0),
+            Solver::ConjugateGradient(s) => s.steps(fields, count),
+            Solver::Cholesky(s) => {
+                for _ in 0..count {
+                    s.step(fields)?;
+                }
+                Ok(0)
+            }
         }
     }
 }
