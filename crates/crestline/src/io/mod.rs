@@ -149,7 +149,7 @@ pub fn read_mesh(path: &Path, format: Option<Format>) -> Result<TriMesh> {
     data.into_mesh(path)
 }
 
-/// Files at least this large are read in pieces of this size, in parallel.
+/// Files of at least twice this size are read in pieces of this size, in parallel.
 const READ_PIECE: usize = 4 << 20;
 
 /// Reads a whole file, as [`std::fs::read`] does. A large file is read in pieces of
