@@ -75,16 +75,17 @@ fn classify(mesh: &TriMesh) -> (Orientation, Components) {
     let inconsistent: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
     vertex_component.par_iter().enumerate().for_each(|(v, &c)| {
         // Unreferenced vertices have no component (and no edges).
-        let (Some(open), Some(inconsistent)) = (open.get(c as usize), inconsistent.get(c as usize))
+        let (Some(component_open), Some(component_inconsistent)) =
+            (open.get(c as usize), inconsistent.get(c as usize))
         else {
             return;
         };
         let v = v as u32;
         if topo.has_open_edge(v) {
-            open.store(true, Relaxed);
+            component_open.store(true, Relaxed);
         }
         if topo.has_inconsistent_edge(v) {
-            inconsistent.store(true, Relaxed);
+            component_inconsistent.store(true, Relaxed);
         }
     });
     let open: Vec<bool> = open.into_iter().map(AtomicBool::into_inner).collect();

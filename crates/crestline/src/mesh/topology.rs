@@ -938,14 +938,14 @@ impl Star {
     }
 }
 
-/// The position of the face of a corner of [`Star::corners`] in the vertex's face list.
-#[inline]
 /// Whether `triangle` runs through `edge` from its first to its second vertex.
 fn runs_through(triangle: &[u32; 3], [a, b]: [u32; 2]) -> bool {
     let i = triangle.iter().position(|&v| v == a).unwrap_or(0);
     triangle[(i + 1) % 3] == b
 }
 
+/// The position of the face of a corner of [`Star::corners`] in the vertex's face list.
+#[inline]
 fn position(corner: u64) -> usize {
     (corner & 0xffff_ffff) as usize
 }
