@@ -5,7 +5,7 @@
 #   bench/compare/run.sh            # from anywhere inside the repository
 #
 # Steps: (a) install libcgal-dev, libeigen3-dev, g++ and GNU time with apt-get when missing;
-# (b) build the CGAL driver ridges_cgal.cpp (-O3 -DNDEBUG); (c) build crestline in release;
+# (b) build the CGAL driver ridges_cgal.cpp (-O3 -DNDEBUG); (c) build crestline with the dist profile (fat LTO);
 # (d) convert the shared meshes to OFF (`crestline subdivide --levels 0`) and make the
 # ~1.6M-face mesh by two levels of Loop subdivision of horse (96,966 -> 1,551,456 faces);
 # (e) run CGAL, crestline (default method, HPW) and crestline --method ybs on every mesh
@@ -51,9 +51,9 @@ if [[ ! -x $DRIVER || $HERE/ridges_cgal.cpp -nt $DRIVER ]]; then
         "$HERE/ridges_cgal.cpp" -o "$DRIVER" -lgmp -lmpfr
 fi
 
-# (c) crestline, release profile.
-(cd "$ROOT" && cargo build --release -p crestline-cli)
-CRESTLINE=$ROOT/target/release/crestline
+# (c) crestline, dist profile.
+(cd "$ROOT" && cargo build --profile dist -p crestline-cli)
+CRESTLINE=$ROOT/target/dist/crestline
 
 # (d) Inputs as OFF.
 source_file() {
