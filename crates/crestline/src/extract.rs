@@ -98,6 +98,13 @@ pub struct ExtractOptions {
     /// (YBS): [`YBS_DEFAULT_SMOOTHING_STEPS`] steps of size 1, a deviation from the paper
     /// (see the module docs; 0 steps is YBS as published); (Saliency): none.
     pub smoothing: ExtremalitySmoothing,
+    /// Run the extremality smoothing only when the curvature estimate found the surface
+    /// noisy ([`Curvature::extremality_noise`] > 0; only the jet fit measures noise, so the
+    /// papers' estimators are always smoothed). On clean surfaces the jet fit has already
+    /// averaged over a disc, and smoothing again moves the zeros of the extremalities of small
+    /// features (measured on the public bumpy sphere: F1 0.92 → 0.22 at 5K faces, 0.99 →
+    /// 0.90 at 20K); on noisy ones it removes what noise the fit leaves. Default: true.
+    pub smooth_only_noisy: bool,
     /// Step 6: thresholds. Default (HPW): T ≥ [`HPW_DEFAULT_THRESHOLD`], length ≥ 1% of the
     /// diagonal; (YBS): T ≥ [`YBS_DEFAULT_THRESHOLD`] as the floor of the automatic threshold
     /// (see `auto_threshold`), length ≥ 1%. HPW filter with the
@@ -149,7 +156,8 @@ impl ExtractOptions {
             Method::Hpw => ExtractOptions {
                 method,
                 pre_smoothing: SurfaceSmoothing::default(),
-                curvature: CurvatureOptions::default().with_estimator(Estimator::ShapeOperator),
+                curvature: CurvatureOptions::default().with_estimator(Estimator::JetFit),
+                smooth_only_noisy: true,
                 smoothing: ExtremalitySmoothing::default(),
                 filter: LineFilter {
                     measure: StrengthMeasure::Cyclideness,
@@ -166,7 +174,8 @@ impl ExtractOptions {
             Method::Ybs => ExtractOptions {
                 method,
                 pre_smoothing: SurfaceSmoothing::default(),
-                curvature: CurvatureOptions::default().with_estimator(Estimator::CubicFit),
+                curvature: CurvatureOptions::default().with_estimator(Estimator::JetFit),
+                smooth_only_noisy: true,
                 smoothing: ExtremalitySmoothing {
                     steps: YBS_DEFAULT_SMOOTHING_STEPS,
                     ..Default::default()
@@ -333,7 +342,9 @@ pub fn extract_with_progress(
     stats.fallback_vertices = curvature.fallback_vertices;
     clock.end(Stage::Curvature, t);
 
-    if options.smoothing.steps > 0 {
+    let noise_measured = options.curvature.estimator == Estimator::JetFit;
+    let skip = options.smooth_only_noisy && noise_measured && curvature.extremality_noise == 0.0;
+    if options.smoothing.steps > 0 && !skip {
         let t = clock.begin(Stage::ExtremalitySmoothing);
         smooth_extremalities(surface, &mut curvature, &options.smoothing)?;
         clock.end(Stage::ExtremalitySmoothing, t);

@@ -21,6 +21,18 @@ pub enum EstimatorArg {
     ShapeOperator,
     /// Enhanced adjacent-normal cubic fit (YBS 2005).
     CubicFit,
+    /// Polynomial fit over a geodesic disc (Cazals and Pouget 2005; independent of the triangulation).
+    JetFit,
+}
+
+impl From<EstimatorArg> for Estimator {
+    fn from(e: EstimatorArg) -> Self {
+        match e {
+            EstimatorArg::ShapeOperator => Estimator::ShapeOperator,
+            EstimatorArg::CubicFit => Estimator::CubicFit,
+            EstimatorArg::JetFit => Estimator::JetFit,
+        }
+    }
 }
 
 /// Arguments of `crestline curvature`.
@@ -37,11 +49,20 @@ pub struct Args {
     #[arg(long, value_enum)]
     pub format: Option<FormatArg>,
     /// The estimator.
-    #[arg(long, value_enum, default_value = "shape-operator")]
+    #[arg(long, value_enum, default_value = "jet-fit")]
     pub estimator: EstimatorArg,
     /// Rings of the cubic fit (1 to 4).
     #[arg(long, default_value_t = 1)]
     pub rings: usize,
+    /// Radius of the jet fit's disc, in sample spacings.
+    #[arg(long, default_value_t = crestline::curvature::JetFitOptions::DEFAULT.radius)]
+    pub radius: f64,
+    /// Degree of the jet fit (3 or 4).
+    #[arg(long, default_value_t = crestline::curvature::JetFitOptions::DEFAULT.degree)]
+    pub degree: usize,
+    /// Do not grow the jet fit's radius with the measured noise level.
+    #[arg(long)]
+    pub no_noise_adaptation: bool,
     /// Write CSV (one row per vertex) instead of PLY.
     #[arg(long)]
     pub csv: bool,
@@ -75,11 +96,16 @@ pub fn run(args: Args) -> Result<()> {
     let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let options = CurvatureOptions::default()
-        .with_estimator(match args.estimator {
-            EstimatorArg::ShapeOperator => Estimator::ShapeOperator,
-            EstimatorArg::CubicFit => Estimator::CubicFit,
-        })
+        .with_estimator(args.estimator.into())
         .with_rings(args.rings);
+    let options = CurvatureOptions {
+        jet_fit: options
+            .jet_fit
+            .with_radius(args.radius)
+            .with_degree(args.degree)
+            .with_adapt_to_noise(!args.no_noise_adaptation),
+        ..options
+    };
     let spinner = ProgressBar::new_spinner().with_style(
         ProgressStyle::with_template("{spinner} {msg} {elapsed}")
             .unwrap_or_else(|_| ProgressStyle::default_spinner()),

@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use crestline::extract::{ExtractOptions, Extraction, Method, Stage, extract_with_progress};
+use crestline::curvature::Estimator;
 use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines};
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
@@ -13,6 +14,7 @@ use crestline::smoothing::surface::SurfaceSmoothing;
 use crestline::{TriMesh, Vec3};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use super::curvature::EstimatorArg;
 use crate::input::{FormatArg, OrientArgs, load_mesh, prepare_mesh};
 
 /// Which pipeline runs.
@@ -95,7 +97,14 @@ pub struct Args {
     /// Surface pre-smoothing steps (implicit mean-curvature flow). Off by default.
     #[arg(long)]
     pub pre_smooth: Option<usize>,
-    /// Rings of the cubic fit (YBS and saliency; 1 to 4, default 1).
+    /// Curvature estimator (default: jet-fit for every method).
+    #[arg(long, value_enum)]
+    pub estimator: Option<EstimatorArg>,
+    /// Radius of the jet fit's disc, in sample spacings (default 2.5).
+    #[arg(long)]
+    pub radius: Option<f64>,
+    /// Rings of YBS's cubic fit (1 to 4); selects the cubic-fit estimator unless
+    /// `--estimator` says otherwise.
     #[arg(long)]
     pub rings: Option<usize>,
     /// Per-vertex diffusion factors for inhomogeneous smoothing: a text file with one number
@@ -228,6 +237,7 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
     let mut o = ExtractOptions::for_method(method);
     if let Some(n) = args.smooth_steps {
         o.smoothing.steps = n;
+        o.smooth_only_noisy = false;
     }
     if let Some(t) = args.smooth_time {
         o.smoothing.time_step = t;
@@ -262,7 +272,13 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
         };
     }
     if let Some(k) = args.rings {
-        o.curvature = o.curvature.with_rings(k);
+        o.curvature = o.curvature.with_rings(k).with_estimator(Estimator::CubicFit);
+    }
+    if let Some(e) = args.estimator {
+        o.curvature.estimator = e.into();
+    }
+    if let Some(r) = args.radius {
+        o.curvature.jet_fit.radius = r;
     }
     if args.no_gaps {
         o.gaps = None;

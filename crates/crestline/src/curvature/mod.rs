@@ -22,9 +22,11 @@
 //! uniform scaling by s, curvatures scale by 1/s and extremalities by 1/s².
 
 pub mod cubic_fit;
+pub mod jet_fit;
 pub mod shape_operator;
 
 pub use cubic_fit::{CubicFitOptions, cubic_fit};
+pub use jet_fit::{JetFitOptions, JetFitReport, jet_fit, jet_fit_report};
 pub use shape_operator::{PrincipalSelection, ShapeOperatorOptions, shape_operator};
 
 use rayon::prelude::*;
@@ -40,6 +42,9 @@ pub enum Estimator {
     ShapeOperator,
     /// Enhanced adjacent-normal cubic fitting (YBS 2005, eqs. 2, 3).
     CubicFit,
+    /// Weighted polynomial fit over a geodesic disc chosen by geometry (Cazals and Pouget
+    /// 2005, with area weights): independent of the triangulation ([`jet_fit()`]).
+    JetFit,
 }
 
 /// Per-vertex curvature fields, indexed like the mesh's vertices.
@@ -62,6 +67,16 @@ pub struct Curvature {
     /// Vertices that could not be estimated normally (too few neighbours, unreferenced,
     /// degenerate star) and got a fallback value; never NaN.
     pub fallback_vertices: usize,
+    /// Standard deviation of the estimation noise of the extremalities, from
+    /// [`Curvature::simulated_noise`] ([`Curvature::set_simulated_noise`]). 0 when the estimator does not measure noise (the shape
+    /// operator, the cubic fit) or found the mesh clean. Line strengths count the cyclideness
+    /// above this noise only ([`crate::lines::assemble::debiased_cyclideness`]).
+    pub extremality_noise: f64,
+    /// What the estimator makes of white noise of the measured level in the vertex heights:
+    /// per vertex, the `e_max` and `e_min` it would add. Smoothing steps smooth it with the
+    /// extremalities, so that [`Curvature::extremality_noise`] follows them. Empty when
+    /// `extremality_noise` is 0.
+    pub simulated_noise: [Vec<f64>; 2],
 }
 
 impl Curvature {
@@ -73,6 +88,21 @@ impl Curvature {
     /// True when there are no vertices.
     pub fn is_empty(&self) -> bool {
         self.k_max.is_empty()
+    }
+
+    /// Sets [`Curvature::simulated_noise`] and the noise level it implies: its median
+    /// absolute value over both families divided by 0.6745 (the standard deviation, for
+    /// normal noise), which one-sided fits at boundaries, whose noise is larger, do not sway.
+    pub fn set_simulated_noise(&mut self, simulated: [Vec<f64>; 2]) {
+        let mut magnitudes: Vec<f64> = simulated.iter().flatten().map(|x| x.abs()).collect();
+        self.extremality_noise = if magnitudes.is_empty() {
+            0.0
+        } else {
+            let mid = magnitudes.len() / 2;
+            magnitudes.select_nth_unstable_by(mid, f64::total_cmp);
+            magnitudes[mid] / 0.6745
+        };
+        self.simulated_noise = simulated;
     }
 }
 
@@ -93,6 +123,10 @@ pub struct CurvatureOptions {
     ///
     /// Default: [`CubicFitOptions::DEFAULT`] (1-ring, YBS pre-smoothing on).
     pub cubic_fit: CubicFitOptions,
+    /// Options of the jet fit (used when `estimator` is [`Estimator::JetFit`]).
+    ///
+    /// Default: [`JetFitOptions::DEFAULT`].
+    pub jet_fit: JetFitOptions,
 }
 
 impl CurvatureOptions {
@@ -101,6 +135,7 @@ impl CurvatureOptions {
         estimator: Estimator::ShapeOperator,
         shape_operator: ShapeOperatorOptions::DEFAULT,
         cubic_fit: CubicFitOptions::DEFAULT,
+        jet_fit: JetFitOptions::DEFAULT,
     };
 
     /// Selects the estimator.
@@ -142,6 +177,7 @@ pub fn estimate(mesh: &TriMesh, options: &CurvatureOptions) -> Result<Curvature>
             Ok(shape_operator(mesh, &options.shape_operator))
         }
         Estimator::CubicFit => cubic_fit(mesh, &options.cubic_fit),
+        Estimator::JetFit => jet_fit(mesh, &options.jet_fit),
     }
 }
 
@@ -287,6 +323,8 @@ where
         e_min: vec![0.0; n],
         normals,
         fallback_vertices: 0,
+        extremality_noise: 0.0,
+        simulated_noise: Default::default(),
     };
     let mut fallback = vec![false; n];
     (

@@ -170,7 +170,7 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
                 c += w * family.e[v].hypot(family.e_other[v]);
             }
             k_abs[i] = k.abs();
-            cyclideness[i] = c;
+            cyclideness[i] = debiased_cyclideness(c, family.e_noise);
         }
     }
     let (length, k_integral, c_integral) =
@@ -178,6 +178,14 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
     line.length = length;
     line.curvature_integral = k_integral;
     line.strength = length * c_integral;
+}
+
+/// The cyclideness with the expected contribution of the extremalities' estimation noise
+/// removed: with independent normal errors of standard deviation δ in `e_max` and `e_min`,
+/// `E[C²] = C_true² + 2δ²`, so `sqrt(max(0, C² − 2δ²))` estimates `C_true` (0 when δ = 0
+/// leaves C as it is).
+pub fn debiased_cyclideness(c: f64, noise: f64) -> f64 {
+    (c * c - 2.0 * noise * noise).max(0.0).sqrt()
 }
 
 /// Linear interpolation weights of a surface point over mesh vertices (one to three).
@@ -259,6 +267,7 @@ mod tests {
             e: &e,
             e_other: &zero,
             dirs: &dirs,
+            e_noise: 0.0,
         };
         let mut segs = FamilySegments {
             regular: vec![true; m.num_faces()],

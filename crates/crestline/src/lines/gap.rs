@@ -274,6 +274,7 @@ mod tests {
                 e: &self.zero,
                 e_other: &self.zero,
                 dirs: &self.dirs,
+                e_noise: 0.0,
             };
             jump_gaps(&self.mesh, &family, lines, options)
         }

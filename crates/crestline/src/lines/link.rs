@@ -181,6 +181,8 @@ mod tests {
             e_min: vec![0.0; n],
             normals: vec![Vec3::z(); n],
             fallback_vertices: 0,
+            extremality_noise: 0.0,
+            simulated_noise: Default::default(),
         };
         let mut saliency = vec![0.1; n];
         for (v, p) in mesh.positions().iter().enumerate() {

@@ -49,7 +49,13 @@ pub struct Family<'a> {
     pub e_other: &'a [f64],
     /// Principal directions of this family.
     pub dirs: &'a [Vec3],
+    /// Standard deviation of the extremalities' estimation noise
+    /// ([`Curvature::extremality_noise`]), taken out of the cyclideness of lines
+    /// ([`super::assemble::debiased_cyclideness`]).
+    pub e_noise: f64,
 }
+
+
 
 impl<'a> Family<'a> {
     /// The max family (ridges) or the min family (valleys) of `c`.
@@ -62,6 +68,7 @@ impl<'a> Family<'a> {
                 e: &c.e_max,
                 e_other: &c.e_min,
                 dirs: &c.dir_max,
+                e_noise: c.extremality_noise,
             },
             LineKind::Valley => Family {
                 kind,
@@ -70,6 +77,7 @@ impl<'a> Family<'a> {
                 e: &c.e_min,
                 e_other: &c.e_max,
                 dirs: &c.dir_min,
+                e_noise: c.extremality_noise,
             },
         }
     }

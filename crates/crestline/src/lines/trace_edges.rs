@@ -157,6 +157,7 @@ mod tests {
                 e: &e,
                 e_other: &zero,
                 dirs: &dirs,
+                e_noise: 0.0,
             };
             let segs = trace_crest_edges(&m, &fam);
             assert_eq!(!segs.segments.is_empty(), expect, "sign {sign}");

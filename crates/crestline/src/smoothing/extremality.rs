@@ -169,8 +169,15 @@ pub fn smooth_extremalities(
     }
     let smoother = ExtremalitySmoother::new(mesh, curvature, options)?;
     smoother.steps(&mut curvature.e_max, &mut curvature.e_min, options.steps)?;
+    if curvature.extremality_noise > 0.0 {
+        let [mut a, mut b] = std::mem::take(&mut curvature.simulated_noise);
+        smoother.steps(&mut a, &mut b, options.steps)?;
+        curvature.set_simulated_noise([a, b]);
+    }
     Ok(())
 }
+
+
 
 /// The smoothing operator of both families, for repeated steps.
 #[derive(Debug)]
@@ -179,6 +186,7 @@ pub struct ExtremalitySmoother<'m> {
 }
 
 impl<'m> ExtremalitySmoother<'m> {
+
     /// Builds the operator once (and factorises it, for [`LinearSolver::Cholesky`]).
     ///
     /// # Errors
@@ -289,6 +297,8 @@ mod tests {
             e_min: Vec::with_capacity(n),
             normals: vec![Vec3::z(); n],
             fallback_vertices: 0,
+            extremality_noise: 0.0,
+            simulated_noise: Default::default(),
         };
         for (i, p) in mesh.positions().iter().enumerate() {
             let around = Vec3::new(-p.y, p.x, 0.0).normalize();
