@@ -33,6 +33,20 @@
 //! equator split around the valence-5 vertices. The price is one sparse factorisation per
 //! family (see `BENCHMARKS.md`); T is measured on the smoothed fields, as for HPW.
 //!
+//! **Default estimator, every method: the jet fit** ([`crate::curvature::jet_fit`](mod@crate::curvature::jet_fit)).
+//! *Deliberate deviation from all three papers.* The papers' estimators read one star (HPW's
+//! shape operator) or a k-ring (YBS's cubic fit), so their errors depend on the
+//! triangulation: on the irregular and marching-cubes cases of `../shared/quality` k is off
+//! by 15 to 50% of max |k| and e by more than its own size, and the lines break into pieces.
+//! The jet fit reads a disc of fixed radius in which every vertex counts by the area it stands
+//! for, and measures the noise of the surface from its own residuals and widens the disc
+//! with it (step 3 of issue 19: a scale that adapts to noise). The papers' estimators stay
+//! one option away (`curvature.estimator`, CLI `--estimator shape-operator` / `cubic-fit`,
+//! or `--rings k` for YBS's k-ring fit). With the jet fit, the extremality smoothing (step 3)
+//! runs only on surfaces the fit found noisy ([`ExtractOptions::smooth_only_noisy`]), and the
+//! strength T of each line is corrected for the part the remaining noise adds to it
+//! ([`crate::lines::assemble`]). Figures before and after: `BENCHMARKS.md`, "Quality".
+//!
 //! *Orientation:* curvature signs follow the winding of the triangles, so a closed mesh wound
 //! inward gives ridges as valleys and valleys as ridges. [`extract`] takes the mesh as it is;
 //! pass it through [`crate::mesh::orient_outward`] first (the CLI does, unless

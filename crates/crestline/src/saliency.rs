@@ -555,7 +555,11 @@ mod tests {
     fn crease_is_more_salient_than_a_flat_region() {
         // A roof: two planes meeting at a crease along x = 0.
         let mesh = shapes::height_field(|x, _| -x.abs() * 0.8, [-2.0, 2.0], [-2.0, 2.0], 40, 40);
-        let c = estimate(&mesh, &CurvatureOptions::default()).unwrap();
+        let c = estimate(
+            &mesh,
+            &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
+        )
+        .unwrap();
         let s = mesh_saliency(&mesh, &c, &SaliencyOptions::default()).unwrap();
         let at = |x: f64, y: f64| {
             (0..mesh.num_vertices())
@@ -629,7 +633,12 @@ mod tests {
         // Curv is 1/r on a sphere and 1/r_minor on a torus (the tube curvature dominates), so
         // the sorted saliency has no steep part and the knee search finds no threshold.
         for mesh in [shapes::icosphere(2.0, 3), shapes::torus(3.0, 1.0, 90, 30)] {
-            let c = estimate(&mesh, &CurvatureOptions::default()).unwrap();
+            let c = estimate(
+                &mesh,
+                &CurvatureOptions::default()
+                    .with_estimator(crate::curvature::Estimator::ShapeOperator),
+            )
+            .unwrap();
             let s = mesh_saliency(&mesh, &c, &SaliencyOptions::default()).unwrap();
             let knee = crate::threshold::seek_threshold(&s.saliency, &Default::default());
             assert_eq!(
@@ -644,7 +653,11 @@ mod tests {
     #[test]
     fn sphere_saliency_is_uniform() {
         let mesh = shapes::icosphere(2.0, 3);
-        let c = estimate(&mesh, &CurvatureOptions::default()).unwrap();
+        let c = estimate(
+            &mesh,
+            &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
+        )
+        .unwrap();
         let s = mesh_saliency(&mesh, &c, &SaliencyOptions::default()).unwrap();
         let max = s.saliency.iter().cloned().fold(f64::MIN, f64::max);
         let min = s.saliency.iter().cloned().fold(f64::MAX, f64::min);
@@ -682,7 +695,11 @@ mod tests {
     fn variation_matches_the_brute_force_sums() {
         // An irregular field on an ellipsoid, every number of scales.
         let mesh = shapes::ellipsoid(2.0, 1.5, 1.0, 3);
-        let c = estimate(&mesh, &CurvatureOptions::default()).unwrap();
+        let c = estimate(
+            &mesh,
+            &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
+        )
+        .unwrap();
         let sigma = 0.7 * mean_edge_length(&mesh);
         let curv: Vec<f64> = (0..mesh.num_vertices())
             .map(|v| c.k_max[v].abs().max(c.k_min[v].abs()))
@@ -704,7 +721,11 @@ mod tests {
         // Each pair is weighted once and its weights are added to both ends, by tasks that
         // run in parallel: the sums must still come out bit for bit the same.
         let mesh = shapes::ellipsoid(2.0, 1.5, 1.0, 4);
-        let c = estimate(&mesh, &CurvatureOptions::default()).unwrap();
+        let c = estimate(
+            &mesh,
+            &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
+        )
+        .unwrap();
         let sigma = 0.5 * mean_edge_length(&mesh);
         // Cells of σ_4 = 4σ along the longest axis (x, 4 long): at least three layers per
         // phase, so several tasks write to the same sums.
@@ -772,7 +793,11 @@ mod tests {
         let mut positions = mesh.positions().to_vec();
         positions.push(Vec3::new(0.01, 0.02, 0.0));
         let with_stray = TriMesh::new(positions, mesh.faces().to_vec()).unwrap();
-        let c = estimate(&mesh, &CurvatureOptions::default()).unwrap();
+        let c = estimate(
+            &mesh,
+            &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
+        )
+        .unwrap();
         let mut c2 = c.clone();
         for field in [&mut c2.k_max, &mut c2.k_min, &mut c2.e_max, &mut c2.e_min] {
             field.push(100.0);

@@ -158,7 +158,7 @@ fn ridge_fields(mesh: &TriMesh, field: impl Fn(Vec3) -> Option<(Vec3, f64)>) -> 
         e_max: per_vertex.iter().map(|x| x.1).collect(),
         e_min: vec![0.0; n],
         normals: vec![Vec3::z(); n],
-        fallback_vertices: 0,
+        ..Default::default()
     }
 }
 

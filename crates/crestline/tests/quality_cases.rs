@@ -11,7 +11,9 @@
 //!   a little lower than the benchmark's (`bench/quality/run.sh`);
 //! - on the torus, which has no crest lines, the detected length per diagonal.
 //!
-//! The bounds sit a little below what these measures gave when they were set.
+//! The bounds sit a little below what these measures gave when they were set (with the
+//! recall counted over every exact line, the bumpy sphere's and the noisy ridge's weak
+//! lines, which `score.py` leaves out, keep their F1 lower here than in the benchmark).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::path::{Path, PathBuf};
@@ -35,7 +37,7 @@ fn load(case: &str) -> TriMesh {
     let path = cases_dir().join(format!("{case}.obj"));
     let mesh = crestline::io::read_mesh(&path, None)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    crestline::mesh::orient_outward(&mesh).0
+    crestline::mesh::orient_outward(mesh).unwrap().0
 }
 
 /// The exact crest lines of a surface as segments, by kind (`o ridge` / `o valley` groups).
@@ -59,9 +61,17 @@ fn truth(surface: &str) -> Vec<(LineKind, [Vec3; 2])> {
                 }
             }
             Some(&"l") => {
+                // OBJ indices count from 1, or back from the last vertex when negative.
                 let idx: Vec<usize> = words[1..]
                     .iter()
-                    .map(|w| w.parse::<usize>().unwrap() - 1)
+                    .map(|w| {
+                        let i = w.parse::<i64>().unwrap();
+                        if i < 0 {
+                            (vertices.len() as i64 + i) as usize
+                        } else {
+                            i as usize - 1
+                        }
+                    })
                     .collect();
                 for pair in idx.windows(2) {
                     segments.push((kind, [vertices[pair[0]], vertices[pair[1]]]));
@@ -80,7 +90,10 @@ fn sample(segments: impl Iterator<Item = [Vec3; 2]>, step: f64) -> Vec<(Vec3, f6
         let length = (b - a).norm();
         let n = (length / step).ceil().max(1.0) as usize;
         for i in 0..n {
-            out.push((a + (b - a) * ((i as f64 + 0.5) / n as f64), length / n as f64));
+            out.push((
+                a + (b - a) * ((i as f64 + 0.5) / n as f64),
+                length / n as f64,
+            ));
         }
     }
     out
@@ -119,10 +132,7 @@ fn score(mesh: &TriMesh, lines: &FeatureLines, surface: &str) -> (f64, f64, f64)
     let (mut p_near, mut p_total, mut r_near, mut r_total) = (0.0, 0.0, 0.0, 0.0);
     for kind in [LineKind::Ridge, LineKind::Valley] {
         let detected = sample(line_segments(lines, kind).into_iter(), tau / 4.0);
-        let reference = sample(
-            exact.iter().filter(|s| s.0 == kind).map(|s| s.1),
-            tau / 4.0,
-        );
+        let reference = sample(exact.iter().filter(|s| s.0 == kind).map(|s| s.1), tau / 4.0);
         let (n, t) = covered(&detected, &reference, tau);
         (p_near, p_total) = (p_near + n, p_total + t);
         let (n, t) = covered(&reference, &detected, tau);
@@ -163,27 +173,27 @@ fn check_spurious(method: Method, case: &str, max_diagonals: f64) {
 
 #[test]
 fn hpw_irregular_ellipsoid() {
-    check_f1(Method::Hpw, "ovoid/irr20k", 0.97);
+    check_f1(Method::Hpw, "ovoid/irr20k", 0.98);
 }
 
 #[test]
 fn hpw_marching_cubes_superquadric() {
-    check_f1(Method::Hpw, "superquadric/mc", 0.95);
+    check_f1(Method::Hpw, "superquadric/mc", 0.97);
 }
 
 #[test]
 fn hpw_irregular_bumpy_sphere() {
-    check_f1(Method::Hpw, "bumpy/irr20k", 0.93);
+    check_f1(Method::Hpw, "bumpy/irr20k", 0.84);
 }
 
 #[test]
 fn hpw_noisy_ridge() {
-    check_f1(Method::Hpw, "ridge/noisy20k", 0.93);
+    check_f1(Method::Hpw, "ridge/noisy20k", 0.86);
 }
 
 #[test]
 fn hpw_noisy_ellipsoid() {
-    check_f1(Method::Hpw, "ovoid/noisy20k", 0.95);
+    check_f1(Method::Hpw, "ovoid/noisy20k", 0.97);
 }
 
 #[test]
@@ -193,20 +203,20 @@ fn hpw_marching_cubes_torus_has_no_lines() {
 
 #[test]
 fn ybs_irregular_superquadric() {
-    check_f1(Method::Ybs, "superquadric/irr20k", 0.95);
+    check_f1(Method::Ybs, "superquadric/irr20k", 0.97);
 }
 
 #[test]
 fn ybs_marching_cubes_ellipsoid() {
-    check_f1(Method::Ybs, "ovoid/mc", 0.97);
+    check_f1(Method::Ybs, "ovoid/mc", 0.98);
 }
 
 #[test]
 fn ybs_noisy_superquadric() {
-    check_f1(Method::Ybs, "superquadric/noisy20k", 0.95);
+    check_f1(Method::Ybs, "superquadric/noisy20k", 0.97);
 }
 
 #[test]
 fn ybs_noisy_torus_has_no_lines() {
-    check_spurious(Method::Ybs, "ring/noisy20k", 0.3);
+    check_spurious(Method::Ybs, "ring/noisy20k", 0.1);
 }

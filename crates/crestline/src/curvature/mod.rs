@@ -111,7 +111,8 @@ impl Curvature {
 pub struct CurvatureOptions {
     /// Which estimator runs.
     ///
-    /// Default: [`Estimator::ShapeOperator`].
+    /// Default: [`Estimator::JetFit`], the one estimator whose error does not depend on the
+    /// triangulation; the papers' estimators stay selectable.
     pub estimator: Estimator,
     /// Options of the shape-operator estimator (used when `estimator` is
     /// [`Estimator::ShapeOperator`]).
@@ -130,9 +131,9 @@ pub struct CurvatureOptions {
 }
 
 impl CurvatureOptions {
-    /// The default options: shape operator; for the cubic fit, the 1-ring.
+    /// The default options: jet fit; for the cubic fit, the 1-ring.
     pub const DEFAULT: Self = CurvatureOptions {
-        estimator: Estimator::ShapeOperator,
+        estimator: Estimator::JetFit,
         shape_operator: ShapeOperatorOptions::DEFAULT,
         cubic_fit: CubicFitOptions::DEFAULT,
         jet_fit: JetFitOptions::DEFAULT,

@@ -55,8 +55,6 @@ pub struct Family<'a> {
     pub e_noise: f64,
 }
 
-
-
 impl<'a> Family<'a> {
     /// The max family (ridges) or the min family (valleys) of `c`.
     pub fn of(c: &'a Curvature, kind: LineKind) -> Self {
@@ -272,6 +270,7 @@ mod tests {
             e: &e,
             e_other: &zero,
             dirs: &dirs,
+            e_noise: 0.0,
         };
         let t01 = fam.crossing(0, 1).unwrap();
         let t10 = fam.crossing(1, 0).unwrap();

@@ -177,8 +177,6 @@ pub fn smooth_extremalities(
     Ok(())
 }
 
-
-
 /// The smoothing operator of both families, for repeated steps.
 #[derive(Debug)]
 pub struct ExtremalitySmoother<'m> {
@@ -186,7 +184,6 @@ pub struct ExtremalitySmoother<'m> {
 }
 
 impl<'m> ExtremalitySmoother<'m> {
-
     /// Builds the operator once (and factorises it, for [`LinearSolver::Cholesky`]).
     ///
     /// # Errors
