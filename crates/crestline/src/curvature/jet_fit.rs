@@ -465,20 +465,29 @@ fn kernel(d2: f64) -> f64 {
     }
 }
 
-/// The monomials `x^i y^j` of total degree up to 4, by degree, x's power decreasing.
+/// The monomials `x^i y^j` of total degree up to 4, by degree, x's power decreasing: 1, x, y,
+/// x², xy, y², x³, …, y⁴ (the first `N` of them).
+#[inline(always)]
 fn monomials<const N: usize>(x: f64, y: f64) -> SVector<f64, N> {
-    let mut m = SVector::<f64, N>::zeros();
-    let mut k = 0;
-    'outer: for d in 0..=4i32 {
-        for j in 0..=d {
-            if k == N {
-                break 'outer;
-            }
-            m[k] = x.powi(d - j) * y.powi(j);
-            k += 1;
-        }
-    }
-    m
+    let (x2, y2) = (x * x, y * y);
+    let all = [
+        1.0,
+        x,
+        y,
+        x2,
+        x * y,
+        y2,
+        x2 * x,
+        x2 * y,
+        x * y2,
+        y2 * y,
+        x2 * x2,
+        x2 * x * y,
+        x2 * y2,
+        x * y2 * y,
+        y2 * y2,
+    ];
+    SVector::<f64, N>::from_fn(|i, _| all[i])
 }
 
 /// A fitted height polynomial (in units of the radius), its weighted RMS residual, and the
