@@ -281,6 +281,9 @@ pub struct ExtractStats {
     pub trace: TraceReport,
     /// Vertices whose curvature needed a fallback.
     pub fallback_vertices: usize,
+    /// The jet fit's sample spacing, radius and measured noise level (`None` with the
+    /// papers' estimators).
+    pub jet_fit: Option<crate::curvature::JetFitReport>,
     /// Lines before filtering (after gap jumping).
     pub lines_traced: usize,
     /// Lines kept.
@@ -354,6 +357,7 @@ pub fn extract_with_progress(
     let t = clock.begin(Stage::Curvature);
     let mut curvature = curvature::estimate(surface, &options.curvature)?;
     stats.fallback_vertices = curvature.fallback_vertices;
+    stats.jet_fit = curvature.jet_fit;
     clock.end(Stage::Curvature, t);
 
     let noise_measured = options.curvature.estimator == Estimator::JetFit;

@@ -446,6 +446,18 @@ fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
     if s.gaps_jumped > 0 {
         out += &format!("gaps jumped            {}\n", s.gaps_jumped);
     }
+    if let Some(j) = s.jet_fit {
+        out += &format!(
+            "jet fit                radius {:.2} spacings ({:.4} model units), noise {}\n",
+            j.radius,
+            j.radius * j.spacing,
+            if j.noise > crestline::curvature::jet_fit::REFERENCE_NOISE {
+                format!("{:.4} spacings", j.noise)
+            } else {
+                "none measured".to_string()
+            }
+        );
+    }
     let times = std::iter::once(("load", io.load))
         .chain(s.stage_times.iter().map(|(stage, t)| (stage.name(), *t)))
         .chain(std::iter::once(("write", io.write)));
@@ -478,6 +490,11 @@ fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::Value
         "threshold_auto": s.threshold_is_auto,
         "gaps_jumped": s.gaps_jumped,
         "fallback_vertices": s.fallback_vertices,
+        "jet_fit": s.jet_fit.map(|j| serde_json::json!({
+            "spacing": j.spacing,
+            "radius_spacings": j.radius,
+            "noise_spacings": j.noise,
+        })),
         "load_seconds": io.load.as_secs_f64(),
         "write_seconds": io.write.as_secs_f64(),
         "stage_seconds": seconds,

@@ -199,14 +199,13 @@ pub fn jet_fit_report(
         }
         curvature.set_simulated_noise(simulated);
     }
-    Ok((
-        curvature,
-        JetFitReport {
-            spacing,
-            radius,
-            noise,
-        },
-    ))
+    let report = JetFitReport {
+        spacing,
+        radius,
+        noise,
+    };
+    curvature.jet_fit = Some(report);
+    Ok((curvature, report))
 }
 
 /// The noise level (in sample spacings) that the fitting radius is referred to. Clean meshes

@@ -77,6 +77,9 @@ pub struct Curvature {
     /// extremalities, so that [`Curvature::extremality_noise`] follows them. Empty when
     /// `extremality_noise` is 0.
     pub simulated_noise: [Vec<f64>; 2],
+    /// What the jet fit measured and chose (sample spacing, radius, noise level); `None` for
+    /// the other estimators.
+    pub jet_fit: Option<JetFitReport>,
 }
 
 impl Curvature {
@@ -326,6 +329,7 @@ where
         fallback_vertices: 0,
         extremality_noise: 0.0,
         simulated_noise: Default::default(),
+        jet_fit: None,
     };
     let mut fallback = vec![false; n];
     (

@@ -183,6 +183,7 @@ mod tests {
             fallback_vertices: 0,
             extremality_noise: 0.0,
             simulated_noise: Default::default(),
+            jet_fit: None,
         };
         let mut saliency = vec![0.1; n];
         for (v, p) in mesh.positions().iter().enumerate() {

@@ -296,6 +296,7 @@ mod tests {
             fallback_vertices: 0,
             extremality_noise: 0.0,
             simulated_noise: Default::default(),
+            jet_fit: None,
         };
         for (i, p) in mesh.positions().iter().enumerate() {
             let around = Vec3::new(-p.y, p.x, 0.0).normalize();
