@@ -6,8 +6,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::vectors_array;
-use crate::error::to_py_err;
-use crate::extract::parse_estimator;
+use crate::error::{choose, to_py_err};
+use crate::extract::ESTIMATORS;
 use crate::mesh::mesh_from_arrays;
 
 /// Principal curvatures, directions and extremalities of every vertex of the mesh
@@ -40,7 +40,8 @@ pub fn curvature<'py>(
     keep_orientation: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mesh = mesh_from_arrays(vertices, faces, keep_orientation)?;
-    let mut options = CurvatureOptions::default().with_estimator(parse_estimator(estimator)?);
+    let mut options =
+        CurvatureOptions::default().with_estimator(choose("estimator", estimator, &ESTIMATORS)?);
     options.cubic_fit.rings = rings.unwrap_or(options.cubic_fit.rings);
     let jet_fit = &mut options.jet_fit;
     jet_fit.radius = radius.unwrap_or(jet_fit.radius);

@@ -8,7 +8,7 @@ use crestline::{TriMesh, Vec3};
 use pyo3::prelude::*;
 
 use crate::arrays::per_vertex;
-use crate::error::{invalid, to_py_err};
+use crate::error::{choose, invalid, to_py_err};
 use crate::lines::Lines;
 use crate::mesh::mesh_from_arrays;
 
@@ -79,7 +79,7 @@ pub fn extract(
     keep_orientation: bool,
 ) -> PyResult<Lines> {
     let mesh = mesh_from_arrays(vertices, faces, keep_orientation)?;
-    let mut options = ExtractOptions::for_method(parse_method(method)?);
+    let mut options = ExtractOptions::for_method(choose("method", method, &METHODS)?);
     if let Some(steps) = smooth_steps {
         options.smoothing.steps = steps;
         options.smooth_only_noisy = false;
@@ -109,7 +109,7 @@ pub fn extract(
             .with_estimator(Estimator::CubicFit);
     }
     if let Some(name) = estimator {
-        options.curvature.estimator = parse_estimator(name)?;
+        options.curvature.estimator = choose("estimator", name, &ESTIMATORS)?;
     }
     options.curvature.jet_fit.radius = radius.unwrap_or(options.curvature.jet_fit.radius);
     if no_gaps {
@@ -122,29 +122,19 @@ pub fn extract(
     Ok(Lines::new(extraction.lines, Some(extraction.stats)))
 }
 
-/// The method named as on the command line.
-pub fn parse_method(name: &str) -> PyResult<Method> {
-    match name.to_ascii_lowercase().as_str() {
-        "hpw" => Ok(Method::Hpw),
-        "ybs" => Ok(Method::Ybs),
-        "saliency" => Ok(Method::Saliency),
-        _ => Err(invalid(format!(
-            "method must be one of 'hpw', 'ybs', 'saliency', got '{name}'"
-        ))),
-    }
-}
+/// The methods by their command-line names.
+const METHODS: [(&str, Method); 3] = [
+    ("hpw", Method::Hpw),
+    ("ybs", Method::Ybs),
+    ("saliency", Method::Saliency),
+];
 
-/// The estimator named as on the command line (`_` may stand for `-`).
-pub fn parse_estimator(name: &str) -> PyResult<Estimator> {
-    match name.to_ascii_lowercase().replace('_', "-").as_str() {
-        "jet-fit" => Ok(Estimator::JetFit),
-        "shape-operator" => Ok(Estimator::ShapeOperator),
-        "cubic-fit" => Ok(Estimator::CubicFit),
-        _ => Err(invalid(format!(
-            "estimator must be one of 'jet-fit', 'shape-operator', 'cubic-fit', got '{name}'"
-        ))),
-    }
-}
+/// The estimators by their command-line names.
+pub const ESTIMATORS: [(&str, Estimator); 3] = [
+    ("jet-fit", Estimator::JetFit),
+    ("shape-operator", Estimator::ShapeOperator),
+    ("cubic-fit", Estimator::CubicFit),
+];
 
 /// `threshold`: a number fixes it, "auto" asks for the knee search.
 fn apply_threshold(

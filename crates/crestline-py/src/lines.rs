@@ -13,7 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::vectors_array;
-use crate::error::{invalid, to_py_err};
+use crate::error::{choose, to_py_err};
 
 /// Feature lines found on a mesh (or read from a file).
 ///
@@ -167,22 +167,20 @@ impl Lines {
     /// the extension.
     #[pyo3(signature = (path, format = None))]
     fn write(&self, py: Python<'_>, path: PathBuf, format: Option<&str>) -> PyResult<()> {
-        let format = format.map(lines_format).transpose()?;
+        let format = format
+            .map(|name| choose("format", name, &LINES_FORMATS))
+            .transpose()?;
         py.detach(|| write_lines(&path, &self.lines, format, PlyEncoding::BinaryLittleEndian))
             .map_err(to_py_err)
     }
 }
 
-fn lines_format(name: &str) -> PyResult<LinesFormat> {
-    match name.to_ascii_lowercase().as_str() {
-        "obj" => Ok(LinesFormat::Obj),
-        "ply" => Ok(LinesFormat::Ply),
-        "json" => Ok(LinesFormat::Json),
-        _ => Err(invalid(format!(
-            "format must be one of 'obj', 'ply', 'json', got '{name}'"
-        ))),
-    }
-}
+/// The feature-line formats by the names of `--format`.
+const LINES_FORMATS: [(&str, LinesFormat); 3] = [
+    ("obj", LinesFormat::Obj),
+    ("ply", LinesFormat::Ply),
+    ("json", LinesFormat::Json),
+];
 
 fn stats_dict<'py>(py: Python<'py>, s: &ExtractStats) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);

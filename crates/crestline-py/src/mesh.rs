@@ -7,7 +7,7 @@ use crestline::io::Format;
 use pyo3::prelude::*;
 
 use crate::arrays::{MeshArrays, points_array, positions, triangles, triangles_array};
-use crate::error::{invalid, to_py_err};
+use crate::error::{choose, to_py_err};
 
 /// Reads a mesh file (OBJ, PLY, OFF or STL; the format follows the extension unless
 /// `format` names it: "obj", "ply", "off" or "stl").
@@ -26,20 +26,15 @@ pub fn read_mesh<'py>(
     path: PathBuf,
     format: Option<&str>,
 ) -> PyResult<MeshArrays<'py>> {
-    let format = format.map(mesh_format).transpose()?;
+    let formats = Format::ALL.map(|f| (f.extension(), f));
+    let format = format
+        .map(|name| choose("format", name, &formats))
+        .transpose()?;
     let data = py
         .detach(|| crestline::io::read_mesh_data(&path, format))
         .map_err(to_py_err)?;
     let faces = triangles_array(py, &data.faces)?;
     Ok((points_array(py, data.positions)?, faces))
-}
-
-fn mesh_format(name: &str) -> PyResult<Format> {
-    Format::from_extension(name).ok_or_else(|| {
-        invalid(format!(
-            "format must be one of 'obj', 'ply', 'off', 'stl', got '{name}'"
-        ))
-    })
 }
 
 /// The mesh of `vertices` and `faces` (array-likes), its closed components turned outward

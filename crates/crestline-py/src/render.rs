@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::arrays::per_vertex;
-use crate::error::{invalid, to_py_err};
+use crate::error::{choose, to_py_err};
 use crate::lines::Lines;
 use crate::mesh::mesh_from_arrays;
 
@@ -56,21 +56,16 @@ pub fn render<'py>(
     if let Some((width, height)) = size {
         options = options.with_size(width, height);
     }
-    options.up = match up.to_ascii_lowercase().as_str() {
-        "y" => UpAxis::Y,
-        "z" => UpAxis::Z,
-        _ => return Err(invalid(format!("up must be 'y' or 'z', got '{up}'"))),
-    };
-    options.color_map = match colormap.to_ascii_lowercase().as_str() {
-        "auto" => ColorMapChoice::Auto,
-        "viridis" => ColorMapChoice::Viridis,
-        "diverging" => ColorMapChoice::Diverging,
-        _ => {
-            return Err(invalid(format!(
-                "colormap must be 'auto', 'viridis' or 'diverging', got '{colormap}'"
-            )));
-        }
-    };
+    options.up = choose("up", up, &[("y", UpAxis::Y), ("z", UpAxis::Z)])?;
+    options.color_map = choose(
+        "colormap",
+        colormap,
+        &[
+            ("auto", ColorMapChoice::Auto),
+            ("viridis", ColorMapChoice::Viridis),
+            ("diverging", ColorMapChoice::Diverging),
+        ],
+    )?;
     options.line_width = line_width.unwrap_or(options.line_width);
     options.show_ridges = !no_ridges;
     options.show_valleys = !no_valleys;

@@ -112,10 +112,10 @@ def test_bad_arrays_raise_value_error(vertices, faces, message):
         (dict(radius=-1.0), "radius must be a positive number"),
         (dict(radius=float("nan")), "radius must be a positive number"),
         (dict(rings=9), "ring"),
-        (dict(smooth_time=-1.0), "invalid input"),
+        (dict(smooth_time=-1.0, smooth_steps=2), "invalid input"),
         (dict(mask=[1.0, 2.0]), r"mask must have shape \(4,\)"),
-        (dict(mask=[1.0, -1.0, 1.0, 1.0]), "invalid input"),
-        (dict(direction_support=-1.0), "direction support"),
+        (dict(mask=[1.0, -1.0, 1.0, 1.0], smooth_steps=2), "invalid input"),
+        (dict(direction_support=-1.0, estimator="shape-operator"), "direction support"),
     ],
 )
 def test_bad_options_raise_value_error(options, message):
