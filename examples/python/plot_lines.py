@@ -3,7 +3,7 @@
     pip install ./crates/crestline-py matplotlib
     python examples/python/plot_lines.py crates/crestline/fixtures/fandisk.obj -o fandisk-lines.png
 
-The mesh is drawn as a light grey surface, ridges red and valleys blue. matplotlib has no depth
+The mesh is drawn as a shaded grey surface, ridges red and valleys blue. matplotlib has no depth
 buffer across artists, so lines behind the surface show through; for an interactive view with
 proper hidden lines use Polyscope (`pip install polyscope`, then `--polyscope`), or
 `crestline.render`, which draws a PNG with hidden lines removed.
@@ -12,6 +12,7 @@ proper hidden lines use Polyscope (`pip install polyscope`, then `--polyscope`),
 import argparse
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -33,10 +34,20 @@ def segments_by_kind(lines):
     return out
 
 
+def shade(triangles, light=(0.3, 0.5, 0.8)):
+    """A grey per triangle, lighter where it faces the light (two-sided Lambert)."""
+    normals = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
+    lambert = np.abs(normals @ (np.array(light) / np.linalg.norm(light)))
+    grey = 0.55 + 0.4 * lambert
+    return np.column_stack([grey, grey, grey])
+
+
 def plot(vertices, faces, lines, path, elevation=20, azimuth=30):
     fig = plt.figure(figsize=(8, 8))
     ax = fig.add_subplot(projection="3d")
-    surface = Poly3DCollection(vertices[faces], facecolor="#d0d0d0", edgecolor="none", alpha=0.35)
+    triangles = vertices[faces]
+    surface = Poly3DCollection(triangles, facecolors=shade(triangles), edgecolor="none", alpha=0.5)
     ax.add_collection3d(surface)
     for kind, polylines in segments_by_kind(lines).items():
         ax.add_collection3d(
@@ -55,7 +66,6 @@ def plot(vertices, faces, lines, path, elevation=20, azimuth=30):
 
 
 def show_in_polyscope(vertices, faces, lines):
-    import numpy as np
     import polyscope as ps
 
     ps.init()
