@@ -27,7 +27,6 @@ use crate::mesh::mesh_from_arrays;
     vertices, faces, estimator = "jet-fit", *, rings = None, radius = None, degree = None,
     no_noise_adaptation = false, keep_orientation = false,
 ))]
-#[allow(clippy::too_many_arguments)]
 pub fn curvature<'py>(
     py: Python<'py>,
     vertices: &Bound<'py, PyAny>,

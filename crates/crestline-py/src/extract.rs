@@ -52,10 +52,9 @@ use crate::mesh::mesh_from_arrays;
     vertices, faces, method = "hpw", *, threshold = None, min_length = None,
     smooth_steps = None, smooth_time = None, crease_angle = None, direction_support = None,
     fair = None, pre_smooth = None, estimator = None, radius = None, rings = None,
-    mask = None, mask_spheres = Vec::new(), mask_boxes = Vec::new(), no_gaps = false,
+    mask = None, mask_spheres = None, mask_boxes = None, no_gaps = false,
     keep_orientation = false,
 ))]
-#[allow(clippy::too_many_arguments)]
 pub fn extract(
     py: Python<'_>,
     vertices: &Bound<'_, PyAny>,
@@ -73,8 +72,8 @@ pub fn extract(
     radius: Option<f64>,
     rings: Option<usize>,
     mask: Option<&Bound<'_, PyAny>>,
-    mask_spheres: Vec<[f64; 5]>,
-    mask_boxes: Vec<[f64; 7]>,
+    mask_spheres: Option<Vec<[f64; 5]>>,
+    mask_boxes: Option<Vec<[f64; 7]>>,
     no_gaps: bool,
     keep_orientation: bool,
 ) -> PyResult<Lines> {
@@ -115,7 +114,12 @@ pub fn extract(
     if no_gaps {
         options.gaps = None;
     }
-    options.smoothing.diffusion = diffusion(&mesh, mask, &mask_spheres, &mask_boxes)?;
+    options.smoothing.diffusion = diffusion(
+        &mesh,
+        mask,
+        &mask_spheres.unwrap_or_default(),
+        &mask_boxes.unwrap_or_default(),
+    )?;
     let extraction = py
         .detach(|| run_extract(&mesh, &options))
         .map_err(to_py_err)?;

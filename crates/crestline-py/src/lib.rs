@@ -10,6 +10,9 @@
 //! Every function takes the arrays with the GIL held (reading them is a copy) and releases
 //! it for the work. Names and defaults are those of the command-line tool.
 
+// The functions take the command-line tool's options as keyword arguments, one argument each.
+#![allow(clippy::too_many_arguments)]
+
 pub mod arrays;
 pub mod curvature;
 pub mod error;

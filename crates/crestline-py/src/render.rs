@@ -26,7 +26,6 @@ use crate::mesh::mesh_from_arrays;
     up = "y", colormap = "auto", line_width = None, no_ridges = false, no_valleys = false,
     no_legend = false, legend_title = None,
 ))]
-#[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
     vertices: &Bound<'py, PyAny>,

@@ -29,7 +29,6 @@ use crate::mesh::mesh_from_arrays;
     vertices, faces, lines = None, *, ratio = None, target_faces = None, eta = None,
     eps = None, keep_orientation = false,
 ))]
-#[allow(clippy::too_many_arguments)]
 pub fn simplify<'py>(
     py: Python<'py>,
     vertices: &Bound<'py, PyAny>,

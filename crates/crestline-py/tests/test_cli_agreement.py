@@ -23,6 +23,8 @@ CASES = [
     ("superquadric/reg5k", ["--estimator", "shape-operator", "--threshold", "auto"]),
     ("bumpy/reg5k", ["--radius", "3.5", "--smooth-steps", "1", "--min-length", "0.02"]),
     ("ridge/reg5k", ["--rings", "2", "--no-gaps", "--method", "ybs"]),
+    ("bumpy/reg5k", ["--smooth-steps", "2", "--mask-sphere", "0,0,1,0.6,0", "--mask-box", "0,-2,-2,2,2,2,3"]),
+    ("ovoid/mc", ["--fair", "0.002", "--pre-smooth", "2", "--crease-angle", "0", "--threshold", "5"]),
 ]
 
 
@@ -36,9 +38,14 @@ def python_options(args):
             options[name] = True
             continue
         value = next(it)
-        if name in ("smooth_steps", "rings"):
+        if name in ("mask_sphere", "mask_box"):
+            options.setdefault(name + "es" if name == "mask_box" else name + "s", []).append(
+                tuple(float(x) for x in value.split(","))
+            )
+            continue
+        if name in ("smooth_steps", "rings", "pre_smooth"):
             value = int(value)
-        elif name in ("radius", "min_length"):
+        elif name in ("radius", "min_length", "fair", "crease_angle"):
             value = float(value)
         elif name == "threshold" and value != "auto":
             value = float(value)

@@ -97,8 +97,8 @@ def extract(
     radius: Optional[float] = None,
     rings: Optional[int] = None,
     mask: Optional[npt.ArrayLike] = None,
-    mask_spheres: Sequence[Tuple[float, float, float, float, float]] = (),
-    mask_boxes: Sequence[Tuple[float, float, float, float, float, float, float]] = (),
+    mask_spheres: Optional[Sequence[Tuple[float, float, float, float, float]]] = None,
+    mask_boxes: Optional[Sequence[Tuple[float, float, float, float, float, float, float]]] = None,
     no_gaps: bool = False,
     keep_orientation: bool = False,
 ) -> Lines:
