@@ -83,13 +83,6 @@ pub fn write_lines(
     .map_err(|e| Error::io(path, e))
 }
 
-fn kind_name(kind: LineKind) -> &'static str {
-    match kind {
-        LineKind::Ridge => "ridge",
-        LineKind::Valley => "valley",
-    }
-}
-
 /// Writes OBJ polylines: `o ridges`, then `o valleys`, each line as its `v` records and one
 /// `l` record.
 ///
@@ -288,7 +281,7 @@ pub fn write_lines_json<W: Write>(out: W, lines: &FeatureLines) -> std::io::Resu
             .lines
             .iter()
             .map(|l| JsonLine {
-                kind: kind_name(l.kind),
+                kind: l.kind.name(),
                 closed: l.closed,
                 points: l.points.iter().map(|p| [p.x, p.y, p.z]).collect(),
                 length: l.length,

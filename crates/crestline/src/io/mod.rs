@@ -141,12 +141,19 @@ impl MeshData {
 /// [`Error::Io`] when the file cannot be read, [`Error::InvalidInput`] for an unknown
 /// extension, [`Error::Parse`] naming the file and position for malformed contents.
 pub fn read_mesh(path: &Path, format: Option<Format>) -> Result<TriMesh> {
+    read_mesh_data(path, format)?.into_mesh(path)
+}
+
+/// Reads a mesh's positions and triangles as the file holds them (polygons fan-triangulated),
+/// without building connectivity: for callers that hand the arrays on (the Python bindings).
+///
+/// # Errors
+/// As [`read_mesh`], except for the checks of [`MeshData::into_mesh`].
+pub fn read_mesh_data(path: &Path, format: Option<Format>) -> Result<MeshData> {
     let format = Format::resolve(path, format)?;
     let bytes = read_file(path).map_err(|e| Error::io(path, e))?;
-    let data = parse_mesh_bytes(&bytes, format, path)?;
-    // The file's bytes are no longer needed: freed before the connectivity is built.
-    drop(bytes);
-    data.into_mesh(path)
+    // The file's bytes are freed on return, before any connectivity is built.
+    parse_mesh_bytes(&bytes, format, path)
 }
 
 /// Files of at least twice this size are read in pieces of this size, in parallel.

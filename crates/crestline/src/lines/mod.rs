@@ -31,6 +31,16 @@ pub enum LineKind {
     Valley,
 }
 
+impl LineKind {
+    /// The lowercase name files and bindings use for the kind (`"ridge"`, `"valley"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            LineKind::Ridge => "ridge",
+            LineKind::Valley => "valley",
+        }
+    }
+}
+
 /// Where a line point sits on the mesh.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SurfacePoint {

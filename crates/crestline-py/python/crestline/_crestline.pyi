@@ -1,0 +1,190 @@
+"""Type stubs of the compiled module ``crestline._crestline`` (re-exported by ``crestline``)."""
+
+import os
+from typing import Iterator, Literal, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+PathLike = Union[str, "os.PathLike[str]"]
+Method = Literal["hpw", "ybs", "saliency"]
+Estimator = Literal["jet-fit", "shape-operator", "cubic-fit"]
+
+class Line:
+    """One feature line."""
+
+    kind: str
+    """"ridge", "valley", or another kind the library defines."""
+    points: npt.NDArray[np.float64]
+    """(k, 3) points in order; a closed line does not repeat its first point."""
+    closed: bool
+    """True when the last point joins the first."""
+    length: float
+    """Length in model units."""
+    strength: float
+    """The strength T = ∫ds · ∫C ds of YBS eq. 5 (scale independent)."""
+    curvature_integral: float
+    """Integral of |k| along the line."""
+
+class Lines:
+    """Feature lines found on a mesh (or read from a file).
+
+    ``len(lines)``, ``lines[i]`` and ``for line in lines`` give ``Line`` objects. All lines at
+    once: ``points`` with ``offsets`` (line i is ``points[offsets[i]:offsets[i+1]]``), and
+    per line ``kinds``, ``lengths``, ``strengths``, ``curvature_integrals``, ``closed``.
+    """
+
+    def __len__(self) -> int: ...
+    def __getitem__(self, index: int) -> Line: ...
+    def __iter__(self) -> Iterator[Line]: ...
+    @property
+    def points(self) -> npt.NDArray[np.float64]:
+        """Every point of every line, line after line: (N, 3) float64."""
+    @property
+    def offsets(self) -> npt.NDArray[np.int64]:
+        """Where each line starts in ``points``, then the number of points: len(lines) + 1 int64."""
+    @property
+    def kinds(self) -> list[str]:
+        """The kind of each line ("ridge", "valley", ...)."""
+    @property
+    def lengths(self) -> npt.NDArray[np.float64]:
+        """The length of each line."""
+    @property
+    def strengths(self) -> npt.NDArray[np.float64]:
+        """The strength T of each line (0 for lines read from OBJ)."""
+    @property
+    def curvature_integrals(self) -> npt.NDArray[np.float64]:
+        """The integral of |k| along each line (0 for lines read from OBJ)."""
+    @property
+    def closed(self) -> npt.NDArray[np.bool_]:
+        """Whether each line is closed."""
+    @property
+    def total_length(self) -> float:
+        """The sum of the lengths."""
+    @property
+    def stats(self) -> Optional[dict]:
+        """Figures about the extraction (as ``crestline extract --stats json``); None for lines read from a file."""
+    def write(self, path: PathLike, format: Optional[Literal["obj", "ply", "json"]] = None) -> None:
+        """Writes the lines as OBJ, PLY (binary) or JSON, chosen by ``format`` or the extension."""
+
+def read_mesh(
+    path: PathLike, format: Optional[Literal["obj", "ply", "off", "stl"]] = None
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+    """Reads a mesh file: (vertices (n, 3) float64, faces (m, 3) int64), in file order.
+
+    Raises ValueError for a malformed file, OSError when it cannot be read.
+    """
+
+def read_lines(path: PathLike) -> Lines:
+    """Reads feature lines from an OBJ file of ``l`` polylines (group ``valleys``: valleys)."""
+
+def extract(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    method: Method = "hpw",
+    *,
+    threshold: Union[float, Literal["auto"], None] = None,
+    min_length: Optional[float] = None,
+    smooth_steps: Optional[int] = None,
+    smooth_time: Optional[float] = None,
+    crease_angle: Optional[float] = None,
+    direction_support: Optional[float] = None,
+    fair: Optional[float] = None,
+    pre_smooth: Optional[int] = None,
+    estimator: Optional[Estimator] = None,
+    radius: Optional[float] = None,
+    rings: Optional[int] = None,
+    mask: Optional[npt.ArrayLike] = None,
+    mask_spheres: Optional[Sequence[Tuple[float, float, float, float, float]]] = None,
+    mask_boxes: Optional[Sequence[Tuple[float, float, float, float, float, float, float]]] = None,
+    no_gaps: bool = False,
+    keep_orientation: bool = False,
+) -> Lines:
+    """Finds the ridges and valleys of the mesh (vertices, faces).
+
+    Options and defaults are those of ``crestline extract``; None means the method's default:
+
+    - method: "hpw" (default), "ybs" or "saliency".
+    - threshold: a number or "auto". HPW: strength T, default 1; YBS and saliency: "auto".
+    - min_length: fraction of the bounding-box diagonal (default 0.01).
+    - smooth_steps (default 2, run on noisy surfaces; a number always runs them), smooth_time
+      (default 1, relative to the squared mean edge length).
+    - crease_angle: degrees (default 17; 0 is HPW's plain smoothing).
+    - direction_support: default 0.5 (0 is the paper's shape operator).
+    - fair: fairing tolerance as a fraction of the diagonal (off).
+    - pre_smooth: mean-curvature-flow steps first (off).
+    - estimator: "jet-fit" (default), "shape-operator" or "cubic-fit".
+    - radius: the jet fit's disc radius in sample spacings (default 2.5).
+    - rings: the cubic fit's k-ring (1 to 4); selects the cubic fit unless estimator is given.
+    - mask, mask_spheres, mask_boxes: per-vertex diffusion factors and regions scaling them.
+    - no_gaps: turn off YBS's gap jumping.
+    - keep_orientation: keep the winding (default: closed components facing inward are reversed).
+
+    Raises ValueError for bad arrays (shape, NaN, index out of range) or options.
+    """
+
+def curvature(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    estimator: Estimator = "jet-fit",
+    *,
+    rings: Optional[int] = None,
+    radius: Optional[float] = None,
+    degree: Optional[int] = None,
+    no_noise_adaptation: bool = False,
+    keep_orientation: bool = False,
+) -> dict[str, npt.NDArray[np.float64]]:
+    """Per-vertex curvature: "k_max", "k_min", "e_max", "e_min" (n,), "dir_max", "dir_min", "normals" (n, 3).
+
+    Defaults as ``crestline curvature``: rings 1, radius 2.5, degree 3.
+    """
+
+def simplify(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    lines: Optional[Lines] = None,
+    *,
+    ratio: Optional[float] = None,
+    target_faces: Optional[int] = None,
+    eta: Optional[float] = None,
+    eps: Optional[float] = None,
+    keep_orientation: bool = False,
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+    """Feature-guided QEM simplification (YBS eq. 7): ratio 0.1, eta 1, eps 0.1 by default.
+
+    Without ``lines`` they are extracted with the default method (unless eta is 0).
+    """
+
+def feature_distance(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    lines: Optional[Lines] = None,
+    *,
+    edges_only: bool = False,
+    keep_orientation: bool = False,
+) -> npt.NDArray[np.float64]:
+    """Geodesic distance from every vertex to the nearest line (inf where none is reached)."""
+
+def render(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    lines: Optional[Lines] = None,
+    field: Optional[npt.ArrayLike] = None,
+    path: Optional[PathLike] = None,
+    *,
+    view: Optional[Tuple[float, float]] = None,
+    size: Optional[Tuple[int, int]] = None,
+    up: Literal["y", "z"] = "y",
+    colormap: Literal["auto", "viridis", "diverging"] = "auto",
+    line_width: Optional[float] = None,
+    no_ridges: bool = False,
+    no_valleys: bool = False,
+    no_legend: bool = False,
+    legend_title: Optional[str] = None,
+) -> Optional[bytes]:
+    """A picture of the mesh, its lines and a field: PNG bytes, or a .png/.svg/.html file at ``path``.
+
+    Defaults as ``crestline render``: view (30, 20), size (1024, 1024), line width 2.5.
+    """

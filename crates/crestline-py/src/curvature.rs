@@ -1,0 +1,67 @@
+//! `crestline.curvature`: the command-line tool's `curvature`, on arrays.
+
+use crestline::curvature::{CurvatureOptions, estimate};
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::vectors_array;
+use crate::error::{choose, to_py_err};
+use crate::extract::ESTIMATORS;
+use crate::mesh::mesh_from_arrays;
+
+/// Principal curvatures, directions and extremalities of every vertex of the mesh
+/// `(vertices, faces)` (array-likes as for `extract`).
+///
+/// Options, with the defaults of `crestline curvature`: `estimator` "jet-fit" (default),
+/// "shape-operator" or "cubic-fit"; `rings`, the k-ring of the cubic fit (1 to 4, default 1);
+/// `radius`, the jet fit's disc radius in sample spacings (default 2.5); `degree`, the jet
+/// fit's polynomial degree (3 or 4, default 3); `no_noise_adaptation`, keep the jet fit's
+/// radius fixed on noisy meshes; `keep_orientation`, as for `extract`.
+///
+/// Returns a dict of numpy arrays indexed like the vertices: "k_max", "k_min", "e_max",
+/// "e_min" (n,) and "dir_max", "dir_min", "normals" (n, 3). Signs: a sphere of radius r
+/// has k = 1/r with outward normals; `k_max >= k_min`.
+#[pyfunction]
+#[pyo3(signature = (
+    vertices, faces, estimator = "jet-fit", *, rings = None, radius = None, degree = None,
+    no_noise_adaptation = false, keep_orientation = false,
+))]
+pub fn curvature<'py>(
+    py: Python<'py>,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    estimator: &str,
+    rings: Option<usize>,
+    radius: Option<f64>,
+    degree: Option<usize>,
+    no_noise_adaptation: bool,
+    keep_orientation: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mesh = mesh_from_arrays(vertices, faces, keep_orientation)?;
+    let mut options =
+        CurvatureOptions::default().with_estimator(choose("estimator", estimator, &ESTIMATORS)?);
+    options.cubic_fit.rings = rings.unwrap_or(options.cubic_fit.rings);
+    let jet_fit = &mut options.jet_fit;
+    jet_fit.radius = radius.unwrap_or(jet_fit.radius);
+    jet_fit.degree = degree.unwrap_or(jet_fit.degree);
+    jet_fit.adapt_to_noise = !no_noise_adaptation;
+    let c = py.detach(|| estimate(&mesh, &options)).map_err(to_py_err)?;
+    let fields = PyDict::new(py);
+    for (name, values) in [
+        ("k_max", c.k_max),
+        ("k_min", c.k_min),
+        ("e_max", c.e_max),
+        ("e_min", c.e_min),
+    ] {
+        fields.set_item(name, PyArray1::from_vec(py, values))?;
+    }
+    for (name, vectors) in [
+        ("dir_max", &c.dir_max),
+        ("dir_min", &c.dir_min),
+        ("normals", &c.normals),
+    ] {
+        fields.set_item(name, vectors_array(py, vectors)?)?;
+    }
+    Ok(fields)
+}

@@ -1,0 +1,52 @@
+//! The one place where the library's errors become Python exceptions.
+//!
+//! Bad data or arguments (`InvalidInput`, a malformed file, a mesh the algorithm cannot work
+//! on) raise `ValueError`; a file the system cannot read raises `OSError` (or its subclass
+//! for the cause, such as `FileNotFoundError`); a numerical failure raises `RuntimeError`.
+
+use crestline::Error;
+use pyo3::exceptions::{
+    PyFileNotFoundError, PyOSError, PyPermissionError, PyRuntimeError, PyValueError,
+};
+use pyo3::{PyErr, PyResult};
+
+/// The Python exception for a library error, with the library's message.
+pub fn to_py_err(error: Error) -> PyErr {
+    let message = error.to_string();
+    match error {
+        Error::Io { source, .. } => match source.kind() {
+            std::io::ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
+            std::io::ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
+            _ => PyOSError::new_err(message),
+        },
+        Error::Parse { .. } | Error::InvalidInput(_) | Error::Topology(_) => {
+            PyValueError::new_err(message)
+        }
+        Error::Solver(_) => PyRuntimeError::new_err(message),
+    }
+}
+
+/// A `ValueError` with `message`, for arguments the bindings check themselves.
+pub fn invalid(message: impl Into<String>) -> PyErr {
+    PyValueError::new_err(message.into())
+}
+
+/// The value the name `given` stands for among `choices` (case-insensitive, `_` for `-`);
+/// otherwise a `ValueError` listing them, saying which argument (`what`) was wrong.
+pub fn choose<T: Copy>(what: &str, given: &str, choices: &[(&str, T)]) -> PyResult<T> {
+    let key = given.to_ascii_lowercase().replace('_', "-");
+    choices
+        .iter()
+        .find(|(name, _)| *name == key)
+        .map(|&(_, value)| value)
+        .ok_or_else(|| {
+            let names: Vec<String> = choices
+                .iter()
+                .map(|(name, _)| format!("'{name}'"))
+                .collect();
+            invalid(format!(
+                "{what} must be one of {}, got '{given}'",
+                names.join(", ")
+            ))
+        })
+}

@@ -1,0 +1,204 @@
+//! `crestline.extract`: the command-line tool's `extract`, on arrays.
+
+use crestline::curvature::Estimator;
+use crestline::extract::{ExtractOptions, Method, extract as run_extract};
+use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
+use crestline::smoothing::surface::SurfaceSmoothing;
+use crestline::{TriMesh, Vec3};
+use pyo3::prelude::*;
+
+use crate::arrays::per_vertex;
+use crate::error::{choose, invalid, to_py_err};
+use crate::lines::Lines;
+use crate::mesh::mesh_from_arrays;
+
+/// Finds the ridges and valleys of the mesh `(vertices, faces)`.
+///
+/// `vertices`: (n, 3) array-like of coordinates (float64, float32, ...); `faces`: (m, 3)
+/// array-like of vertex indices (int64, int32, ...). A `trimesh.Trimesh`'s `.vertices` and
+/// `.faces` work as they are. The options and their defaults are those of `crestline
+/// extract`; `None` means the method's default:
+///
+/// - `method`: "hpw" (Hildebrandt-Polthier-Wardetzky 2005, default), "ybs"
+///   (Yoshizawa-Belyaev-Seidel 2005) or "saliency" (Mao-Wang-Zhou).
+/// - `threshold`: a number, or "auto" for the knee of the sorted strengths. HPW: the strength
+///   T, default 1. YBS: default "auto" (above T = 1). Saliency: the saliency, default "auto".
+/// - `min_length`: lines shorter than this fraction of the bounding-box diagonal are dropped
+///   (default 0.01).
+/// - `smooth_steps`, `smooth_time`: extremality smoothing steps (default 2 for HPW and YBS,
+///   run when the curvature estimate finds the surface noisy; giving a number always runs
+///   them) and step size relative to the squared mean edge length (default 1).
+/// - `crease_angle`: damp the smoothing across curvature jumps of about this angle, in
+///   degrees (default 17; 0 is HPW's plain smoothing).
+/// - `direction_support`: neighbourhood weight in the shape operator's principal directions
+///   (default 0.5; 0 is the paper's operator).
+/// - `fair`: spatial fairing, largest displacement as a fraction of the diagonal (off).
+/// - `pre_smooth`: steps of implicit mean-curvature flow before anything else (off).
+/// - `estimator`: "jet-fit" (default), "shape-operator" or "cubic-fit".
+/// - `radius`: radius of the jet fit's disc, in sample spacings (default 2.5).
+/// - `rings`: rings of YBS's cubic fit (1 to 4); selects the cubic fit unless `estimator`
+///   says otherwise.
+/// - `mask`: one diffusion factor per vertex (inhomogeneous smoothing); `mask_spheres`:
+///   `(x, y, z, r, factor)` tuples and `mask_boxes`: `(x0, y0, z0, x1, y1, z1, factor)`
+///   tuples scale it inside them.
+/// - `no_gaps`: turn off YBS's gap jumping.
+/// - `keep_orientation`: keep the triangles' winding. By default closed components facing
+///   inward are reversed first (curvature signs follow the normals).
+///
+/// Returns a `Lines`. Raises `ValueError` for bad arrays (shape, NaN, index out of range)
+/// or options.
+#[pyfunction]
+#[pyo3(signature = (
+    vertices, faces, method = "hpw", *, threshold = None, min_length = None,
+    smooth_steps = None, smooth_time = None, crease_angle = None, direction_support = None,
+    fair = None, pre_smooth = None, estimator = None, radius = None, rings = None,
+    mask = None, mask_spheres = None, mask_boxes = None, no_gaps = false,
+    keep_orientation = false,
+))]
+pub fn extract(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    method: &str,
+    threshold: Option<&Bound<'_, PyAny>>,
+    min_length: Option<f64>,
+    smooth_steps: Option<usize>,
+    smooth_time: Option<f64>,
+    crease_angle: Option<f64>,
+    direction_support: Option<f64>,
+    fair: Option<f64>,
+    pre_smooth: Option<usize>,
+    estimator: Option<&str>,
+    radius: Option<f64>,
+    rings: Option<usize>,
+    mask: Option<&Bound<'_, PyAny>>,
+    mask_spheres: Option<Vec<[f64; 5]>>,
+    mask_boxes: Option<Vec<[f64; 7]>>,
+    no_gaps: bool,
+    keep_orientation: bool,
+) -> PyResult<Lines> {
+    let mesh = mesh_from_arrays(vertices, faces, keep_orientation)?;
+    let mut options = ExtractOptions::for_method(choose("method", method, &METHODS)?);
+    if let Some(steps) = smooth_steps {
+        options.smoothing.steps = steps;
+        options.smooth_only_noisy = false;
+    }
+    options.smoothing.time_step = smooth_time.unwrap_or(options.smoothing.time_step);
+    if let Some(degrees) = crease_angle {
+        options.smoothing.crease_angle = degrees.to_radians();
+    }
+    let shape_operator = &mut options.curvature.shape_operator;
+    shape_operator.direction_support =
+        direction_support.unwrap_or(shape_operator.direction_support);
+    apply_threshold(&mut options, threshold)?;
+    options.filter.min_length = min_length.unwrap_or(options.filter.min_length);
+    if let Some(fraction) = fair {
+        options.fairing.tolerance = fraction * mesh.bounding_box().diagonal();
+    }
+    if let Some(steps) = pre_smooth {
+        options.pre_smoothing = SurfaceSmoothing {
+            steps,
+            ..SurfaceSmoothing::default()
+        };
+    }
+    if let Some(k) = rings {
+        options.curvature = options
+            .curvature
+            .with_rings(k)
+            .with_estimator(Estimator::CubicFit);
+    }
+    if let Some(name) = estimator {
+        options.curvature.estimator = choose("estimator", name, &ESTIMATORS)?;
+    }
+    options.curvature.jet_fit.radius = radius.unwrap_or(options.curvature.jet_fit.radius);
+    if no_gaps {
+        options.gaps = None;
+    }
+    options.smoothing.diffusion = diffusion(
+        &mesh,
+        mask,
+        &mask_spheres.unwrap_or_default(),
+        &mask_boxes.unwrap_or_default(),
+    )?;
+    let extraction = py
+        .detach(|| run_extract(&mesh, &options))
+        .map_err(to_py_err)?;
+    Ok(Lines::new(extraction.lines, Some(extraction.stats)))
+}
+
+/// The methods by their command-line names.
+const METHODS: [(&str, Method); 3] = [
+    ("hpw", Method::Hpw),
+    ("ybs", Method::Ybs),
+    ("saliency", Method::Saliency),
+];
+
+/// The estimators by their command-line names.
+pub const ESTIMATORS: [(&str, Estimator); 3] = [
+    ("jet-fit", Estimator::JetFit),
+    ("shape-operator", Estimator::ShapeOperator),
+    ("cubic-fit", Estimator::CubicFit),
+];
+
+/// `threshold`: a number fixes it, "auto" asks for the knee search.
+fn apply_threshold(
+    options: &mut ExtractOptions,
+    threshold: Option<&Bound<'_, PyAny>>,
+) -> PyResult<()> {
+    let Some(threshold) = threshold else {
+        return Ok(());
+    };
+    if let Ok(text) = threshold.extract::<String>() {
+        if text != "auto" {
+            return Err(invalid(format!(
+                "threshold takes a number or 'auto', got '{text}'"
+            )));
+        }
+        options.auto_threshold = true;
+        return Ok(());
+    }
+    options.filter.threshold = threshold.extract().map_err(|_| {
+        invalid(format!(
+            "threshold takes a number or 'auto', got {threshold}"
+        ))
+    })?;
+    options.auto_threshold = false;
+    Ok(())
+}
+
+/// Per-vertex diffusion factors: `mask`, scaled inside the spheres and boxes.
+fn diffusion(
+    mesh: &TriMesh,
+    mask: Option<&Bound<'_, PyAny>>,
+    spheres: &[[f64; 5]],
+    boxes: &[[f64; 7]],
+) -> PyResult<Option<Vec<f64>>> {
+    let factors = mask
+        .map(|m| per_vertex(m, mesh.num_vertices(), "mask"))
+        .transpose()?;
+    let spheres = spheres
+        .iter()
+        .map(|&[x, y, z, radius, factor]| MaskRegion::Sphere {
+            center: Vec3::new(x, y, z),
+            radius,
+            factor,
+        });
+    let boxes = boxes
+        .iter()
+        .map(|&[x0, y0, z0, x1, y1, z1, factor]| MaskRegion::Box {
+            min: Vec3::new(x0, y0, z0),
+            max: Vec3::new(x1, y1, z1),
+            factor,
+        });
+    let regions = DiffusionMask {
+        regions: spheres.chain(boxes).collect(),
+    };
+    if regions.regions.is_empty() {
+        return Ok(factors);
+    }
+    let scale = regions.factors(mesh);
+    Ok(Some(match factors {
+        Some(f) => f.iter().zip(&scale).map(|(a, b)| a * b).collect(),
+        None => scale,
+    }))
+}

@@ -1,0 +1,88 @@
+//! `crestline.render`: the command-line tool's `render`, on arrays.
+
+use std::path::PathBuf;
+
+use crestline::render::{ColorMapChoice, RenderOptions, UpAxis, render_png, write_picture};
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+
+use crate::arrays::per_vertex;
+use crate::error::{choose, to_py_err};
+use crate::lines::Lines;
+use crate::mesh::mesh_from_arrays;
+
+/// Draws the mesh `(vertices, faces)`, its `lines` (a `Lines`; ridges red, valleys blue)
+/// and a per-vertex `field` (an (n,) array-like, for example `curvature(...)["k_max"]`).
+///
+/// Without `path` returns the PNG file's bytes; with `path` writes a PNG, SVG (raster mesh,
+/// vector lines) or HTML (the self-contained WebGL viewer) picture, chosen by the extension,
+/// and returns None. Options, with the defaults of `crestline render`: `view` (azimuth,
+/// elevation) in degrees (30, 20); `size` (width, height) in pixels (1024, 1024); `up` "y"
+/// or "z"; `colormap` "auto", "viridis" or "diverging"; `line_width` in pixels (2.5);
+/// `no_ridges`, `no_valleys`, `no_legend`; `legend_title` (default: none).
+#[pyfunction]
+#[pyo3(signature = (
+    vertices, faces, lines = None, field = None, path = None, *, view = None, size = None,
+    up = "y", colormap = "auto", line_width = None, no_ridges = false, no_valleys = false,
+    no_legend = false, legend_title = None,
+))]
+pub fn render<'py>(
+    py: Python<'py>,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    lines: Option<Bound<'py, Lines>>,
+    field: Option<&Bound<'py, PyAny>>,
+    path: Option<PathBuf>,
+    view: Option<(f64, f64)>,
+    size: Option<(u32, u32)>,
+    up: &str,
+    colormap: &str,
+    line_width: Option<f64>,
+    no_ridges: bool,
+    no_valleys: bool,
+    no_legend: bool,
+    legend_title: Option<String>,
+) -> PyResult<Option<Bound<'py, PyBytes>>> {
+    // The picture shows the mesh as given, as `crestline render` does.
+    let mesh = mesh_from_arrays(vertices, faces, true)?;
+    let field = field
+        .map(|f| per_vertex(f, mesh.num_vertices(), "field"))
+        .transpose()?;
+    let mut options = RenderOptions::default();
+    if let Some((azimuth, elevation)) = view {
+        options = options.with_view(azimuth, elevation);
+    }
+    if let Some((width, height)) = size {
+        options = options.with_size(width, height);
+    }
+    options.up = choose("up", up, &[("y", UpAxis::Y), ("z", UpAxis::Z)])?;
+    options.color_map = choose(
+        "colormap",
+        colormap,
+        &[
+            ("auto", ColorMapChoice::Auto),
+            ("viridis", ColorMapChoice::Viridis),
+            ("diverging", ColorMapChoice::Diverging),
+        ],
+    )?;
+    options.line_width = line_width.unwrap_or(options.line_width);
+    options.show_ridges = !no_ridges;
+    options.show_valleys = !no_valleys;
+    options.legend = !no_legend;
+    options.legend_title = legend_title.unwrap_or_default();
+    let lines = lines.as_ref().map(|l| l.get().feature_lines());
+    let field = field.as_deref();
+    match path {
+        Some(path) => {
+            py.detach(|| write_picture(&path, &mesh, lines, field, &options))
+                .map_err(to_py_err)?;
+            Ok(None)
+        }
+        None => {
+            let png = py
+                .detach(|| render_png(&mesh, lines, field, &options))
+                .map_err(to_py_err)?;
+            Ok(Some(PyBytes::new(py, &png)))
+        }
+    }
+}

@@ -1,0 +1,124 @@
+"""The results: lines and their arrays, files, curvature, simplification, distance, pictures."""
+
+import threading
+
+import numpy as np
+import pytest
+
+import crestline
+from conftest import FANDISK, case_path
+
+
+@pytest.fixture(scope="module")
+def lines(fandisk):
+    return crestline.extract(*fandisk)
+
+
+def test_lines_and_their_flat_arrays_agree(lines):
+    assert len(lines) > 10
+    offsets = lines.offsets
+    assert offsets.dtype == np.int64 and offsets[0] == 0 and offsets[-1] == len(lines.points)
+    assert len(offsets) == len(lines) + 1
+    assert set(lines.kinds) <= {"ridge", "valley", "crease"}
+    for i, line in enumerate(lines):
+        np.testing.assert_array_equal(line.points, lines.points[offsets[i] : offsets[i + 1]])
+        assert line.kind == lines.kinds[i]
+        assert line.length == lines.lengths[i]
+        assert line.strength == lines.strengths[i]
+        assert line.closed == lines.closed[i]
+        assert line.curvature_integral == lines.curvature_integrals[i]
+        path = np.vstack([line.points, line.points[:1]]) if line.closed else line.points
+        segments = np.diff(path, axis=0)
+        assert np.linalg.norm(segments, axis=1).sum() == pytest.approx(line.length)
+    assert lines[-1].length == lines.lengths[-1]
+    with pytest.raises(IndexError):
+        lines[len(lines)]
+    assert lines.total_length == pytest.approx(lines.lengths.sum())
+    assert "lines" in repr(lines) and "ridge" in repr(lines[0]) + repr(lines[-1]) + repr(lines)
+
+
+def test_stats(lines):
+    stats = lines.stats
+    assert stats["lines"] == len(lines)
+    assert stats["ridges"] == lines.kinds.count("ridge")
+    assert stats["triangles"] == 12946
+    assert "curvature" in stats["stage_seconds"]
+
+
+def test_write_and_read_back(lines, tmp_path):
+    path = tmp_path / "lines.obj"
+    lines.write(path)
+    back = crestline.read_lines(path)
+    assert back.kinds == lines.kinds
+    assert back.stats is None
+    np.testing.assert_allclose(back.lengths, lines.lengths, rtol=1e-9)
+    lines.write(tmp_path / "lines.data", format="json")
+    assert (tmp_path / "lines.data").read_text().startswith("{")
+
+
+def test_methods_and_thresholds(fandisk):
+    hpw = crestline.extract(*fandisk)
+    ybs = crestline.extract(*fandisk, "ybs")
+    strict = crestline.extract(*fandisk, threshold=10.0)
+    assert len(strict) < len(hpw)
+    assert all(t >= 10.0 for t in strict.strengths)
+    assert len(ybs) > 0
+    assert crestline.extract(*fandisk, threshold="auto").stats["threshold_auto"] in (True, False)
+
+
+def test_curvature_of_the_ovoid_is_close_to_exact():
+    path = case_path("ovoid/reg20k")
+    truth = np.load(str(path).replace(".obj", "_truth.npz"))
+    fields = crestline.curvature(*crestline.read_mesh(path))
+    scale = np.abs(truth["kmax"]).max()
+    assert np.sqrt(np.mean((fields["k_max"] - truth["kmax"]) ** 2)) < 0.02 * scale
+    assert np.sqrt(np.mean((fields["k_min"] - truth["kmin"]) ** 2)) < 0.02 * scale
+    assert fields["dir_max"].shape == fields["normals"].shape == (len(truth["kmax"]), 3)
+
+
+def test_simplify_and_feature_distance(fandisk, lines):
+    vertices, faces = crestline.simplify(*fandisk, lines, target_faces=2000)
+    assert faces.shape == (2000, 3) and faces.dtype == np.int64
+    assert faces.max() < len(vertices)
+    distance = crestline.feature_distance(*fandisk, lines)
+    assert distance.shape == (len(fandisk[0]),)
+    diagonal = np.linalg.norm(np.ptp(fandisk[0], axis=0))
+    assert distance.min() < 1e-3 * diagonal and np.isfinite(distance).all()
+    edges = crestline.feature_distance(*fandisk, lines, edges_only=True)
+    assert (edges >= distance - 1e-12).all()
+    # Without lines, the default extraction's are used.
+    np.testing.assert_array_equal(crestline.feature_distance(*fandisk), distance)
+
+
+def test_render(fandisk, lines, tmp_path):
+    png = crestline.render(*fandisk, lines, size=(200, 150))
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    field = crestline.curvature(*fandisk)["k_max"]
+    for extension in ("png", "svg", "html"):
+        path = tmp_path / f"picture.{extension}"
+        assert crestline.render(*fandisk, lines, field, path, size=(64, 64)) is None
+        assert path.stat().st_size > 0
+
+
+def test_threads_run_side_by_side(fandisk, lines):
+    """The GIL is released during the work: extractions in threads give the same lines."""
+    results = [None] * 4
+
+    def work(i):
+        results[i] = crestline.extract(*fandisk)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(len(results))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for result in results:
+        np.testing.assert_array_equal(result.points, lines.points)
+
+
+def test_help_shows_the_options():
+    assert "threshold" in crestline.extract.__doc__
+    assert "keep_orientation" in crestline.extract.__text_signature__
+    assert "estimator" in crestline.curvature.__doc__
+    assert crestline.__version__
+    assert crestline.Lines.write.__doc__

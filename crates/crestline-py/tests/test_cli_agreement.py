@@ -1,0 +1,107 @@
+"""The Python API gives what the command-line tool gives, on the analytic quality cases."""
+
+import csv
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import crestline
+from conftest import FANDISK, case_path
+
+# One mesh of each analytic surface (regular, irregular, marching cubes, noisy), and the
+# three methods with their defaults and with options passed on.
+CASES = [
+    ("ovoid/reg5k", []),
+    ("superquadric/irr20k", []),
+    ("bumpy/mc", []),
+    ("ring/reg5k", []),
+    ("ridge/noisy20k", []),
+    ("bumpy/reg5k", ["--method", "ybs"]),
+    ("ovoid/reg5k", ["--method", "saliency"]),
+    ("superquadric/reg5k", ["--estimator", "shape-operator", "--threshold", "auto"]),
+    ("bumpy/reg5k", ["--radius", "3.5", "--smooth-steps", "1", "--min-length", "0.02"]),
+    ("ridge/reg5k", ["--rings", "2", "--no-gaps", "--method", "ybs"]),
+    ("bumpy/reg5k", ["--smooth-steps", "2", "--mask-sphere", "0,0,1,0.6,0", "--mask-box", "0,-2,-2,2,2,2,3"]),
+    ("ovoid/mc", ["--fair", "0.002", "--pre-smooth", "2", "--crease-angle", "0", "--threshold", "5"]),
+]
+
+
+def python_options(args):
+    """The keyword arguments of `crestline.extract` that the command-line `args` give."""
+    options = {}
+    it = iter(args)
+    for flag in it:
+        name = flag.removeprefix("--").replace("-", "_")
+        if name == "no_gaps":
+            options[name] = True
+            continue
+        value = next(it)
+        if name in ("mask_sphere", "mask_box"):
+            options.setdefault(name + "es" if name == "mask_box" else name + "s", []).append(
+                tuple(float(x) for x in value.split(","))
+            )
+            continue
+        if name in ("smooth_steps", "rings", "pre_smooth"):
+            value = int(value)
+        elif name in ("radius", "min_length", "fair", "crease_angle"):
+            value = float(value)
+        elif name == "threshold" and value != "auto":
+            value = float(value)
+        options[name] = value
+    return options
+
+
+def cli_lines(cli, mesh, args, tmp_path):
+    out = tmp_path / "lines.json"
+    subprocess.run([str(cli), "extract", str(mesh), "-o", str(out), "-q", *args], check=True)
+    return json.loads(out.read_text())["lines"]
+
+
+@pytest.mark.parametrize("case, args", CASES, ids=[f"{c} {' '.join(a)}" for c, a in CASES])
+def test_extract_matches_cli(cli, tmp_path, case, args):
+    path = case_path(case)
+    expected = cli_lines(cli, path, args, tmp_path)
+    vertices, faces = crestline.read_mesh(path)
+    lines = crestline.extract(vertices, faces, **python_options(args))
+
+    assert len(lines) == len(expected)
+    assert lines.kinds == [line["kind"] for line in expected]
+    assert list(lines.closed) == [line["closed"] for line in expected]
+    np.testing.assert_allclose(lines.lengths, [line["length"] for line in expected], rtol=1e-12)
+    np.testing.assert_allclose(lines.strengths, [line["strength"] for line in expected], rtol=1e-9)
+    for line, want in zip(lines, expected):
+        np.testing.assert_allclose(line.points, np.array(want["points"]).reshape(-1, 3), rtol=0, atol=1e-12)
+
+
+def test_written_files_match_cli(cli, tmp_path, fandisk):
+    """`Lines.write` writes the bytes `crestline extract` writes, in every format."""
+    vertices, faces = fandisk
+    lines = crestline.extract(vertices, faces)
+    for extension in ("obj", "ply", "json"):
+        ours, theirs = tmp_path / f"py.{extension}", tmp_path / f"cli.{extension}"
+        lines.write(ours)
+        subprocess.run([str(cli), "extract", str(FANDISK), "-o", str(theirs), "-q"], check=True)
+        assert ours.read_bytes() == theirs.read_bytes(), extension
+
+
+@pytest.mark.parametrize("estimator", ["jet-fit", "shape-operator", "cubic-fit"])
+def test_curvature_matches_cli(cli, tmp_path, estimator):
+    path = case_path("ovoid/irr20k")
+    out = tmp_path / "fields.csv"
+    subprocess.run(
+        [str(cli), "curvature", str(path), "-o", str(out), "--csv", "--estimator", estimator],
+        check=True,
+        capture_output=True,
+    )
+    with open(out) as f:
+        rows = list(csv.DictReader(f))
+    vertices, faces = crestline.read_mesh(path)
+    fields = crestline.curvature(vertices, faces, estimator)
+    for name in ("k_max", "k_min", "e_max", "e_min"):
+        want = np.array([float(r[name]) for r in rows])
+        np.testing.assert_allclose(fields[name], want, rtol=1e-12, atol=1e-12, err_msg=name)
+    for name in ("dir_max", "dir_min"):
+        want = np.array([[float(r[f"{name}_{c}"]) for c in "xyz"] for r in rows])
+        np.testing.assert_allclose(fields[name], want, rtol=1e-12, atol=1e-12, err_msg=name)
