@@ -9,10 +9,12 @@
 //! broken pieces by gap jumping ([`gap`]); [`trace_crest_lines`] runs that for both families.
 
 pub mod assemble;
+pub mod crease;
 pub mod fair;
 pub mod filter;
 pub mod gap;
 pub mod link;
+pub mod merge;
 pub mod singular;
 pub mod trace;
 pub mod trace_edges;
@@ -67,7 +69,12 @@ pub struct FeatureLine {
     /// Integral of |k| (the dominant principal curvature) along the line (Ohtake et al. 2004).
     pub curvature_integral: f64,
     /// YBS strength T = ∫ds · ∫C ds with C the cyclideness (YBS eqs. 5, 6); scale independent.
+    /// For a crease curve: see [`crease::CreaseCurve::strength`].
     pub strength: f64,
+    /// True for a sharp crease of the mesh ([`crease`]): a chain of mesh edges whose dihedral
+    /// angle is above the crease threshold, `kind` saying whether it is convex (ridge
+    /// family) or concave (valley family). False for a crest line.
+    pub crease: bool,
 }
 
 /// All feature lines found on a mesh.
@@ -81,6 +88,11 @@ impl FeatureLines {
     /// Lines of one kind.
     pub fn of_kind(&self, kind: LineKind) -> impl Iterator<Item = &FeatureLine> {
         self.lines.iter().filter(move |l| l.kind == kind)
+    }
+
+    /// Crease curves (`crease` true), or crest lines (false).
+    pub fn creases(&self, crease: bool) -> impl Iterator<Item = &FeatureLine> {
+        self.lines.iter().filter(move |l| l.crease == crease)
     }
 
     /// Total length of all lines.

@@ -1,0 +1,389 @@
+//! One line set from crest lines and crease curves.
+//!
+//! A smooth-surface method sees a sharp crease as a band of extreme curvature one triangle
+//! wide: its crest lines follow the crease approximately, double it (a ridge on each side),
+//! wander off where the band is irregular and stop short of corners. The crease curves of
+//! [`crate::lines::crease`] are exact there, so in the merged set:
+//!
+//! - the parts of crest lines within [`MergeOptions::tolerance`] of a crease curve are
+//!   replaced by the crease curve (they are cut out of the crest lines);
+//! - a crest line that ends near a crease (its own end, or where such a cut was made) is
+//!   joined to the nearest point of the crease, when that point is within
+//!   [`MergeOptions::join_distance`];
+//! - what is left of a cut crest line must still be [`MergeOptions::min_length`] long;
+//! - crest lines away from creases (fillets, blends, freeform parts) are kept as they are.
+//!
+//! Distances are measured to the crease curves resampled every half tolerance, so the test
+//! "within the tolerance" is exact to a quarter of it. A cut line keeps its kind; its
+//! strengths are scaled to the part kept (T = ∫ds·∫C ds by the square of the length ratio,
+//! ∫|k|ds by the ratio).
+
+use super::{FeatureLine, FeatureLines, SurfacePoint};
+use crate::error::{Error, Result};
+use crate::mesh::{TriMesh, Vec3};
+use crate::spatial::PointGrid;
+
+/// Options of [`merge_creases`]; distances are fractions of the bounding-box diagonal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MergeOptions {
+    /// Crest-line points closer than this to a crease curve are replaced by the crease.
+    ///
+    /// Default: 0.005 (the tolerance at which sharp edges are scored).
+    pub tolerance: f64,
+    /// A crest line ending this close to a crease is extended to it.
+    ///
+    /// Default: 0.02.
+    pub join_distance: f64,
+    /// Pieces of cut crest lines shorter than this are dropped.
+    ///
+    /// Default: 0.01 (the minimum length of crest lines).
+    pub min_length: f64,
+}
+
+impl MergeOptions {
+    /// The default options (see each field).
+    pub const DEFAULT: Self = MergeOptions {
+        tolerance: 0.005,
+        join_distance: 0.02,
+        min_length: 0.01,
+    };
+
+    fn validate(&self) -> Result<()> {
+        for (name, x) in [
+            ("tolerance", self.tolerance),
+            ("join distance", self.join_distance),
+            ("minimum length", self.min_length),
+        ] {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(Error::InvalidInput(format!(
+                    "merge {name} must be a non-negative number, got {x}"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Default for MergeOptions {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// A crease curve resampled, for nearest-point queries.
+struct CreaseSamples {
+    points: Vec<Vec3>,
+    locations: Vec<SurfacePoint>,
+    grid: PointGrid,
+}
+
+impl CreaseSamples {
+    /// Samples every crease segment at most `spacing` apart (both ends included).
+    fn new(mesh: &TriMesh, creases: &FeatureLines, spacing: f64) -> Self {
+        let topo = mesh.topology();
+        let mut points = Vec::new();
+        let mut locations = Vec::new();
+        for line in &creases.lines {
+            let n = line.points.len();
+            let segments = if line.closed { n } else { n.saturating_sub(1) };
+            if n == 1 {
+                points.push(line.points[0]);
+                locations.push(line.locations.first().copied().unwrap_or(SurfacePoint::Face {
+                    face: 0,
+                }));
+            }
+            for k in 0..segments {
+                let (p, q) = (line.points[k], line.points[(k + 1) % n]);
+                let steps = ((q - p).norm() / spacing).ceil().clamp(1.0, 1e6) as usize;
+                let ends = match (line.locations.get(k), line.locations.get((k + 1) % n)) {
+                    (Some(SurfacePoint::Vertex(a)), Some(SurfacePoint::Vertex(b))) => {
+                        topo.edge_between(*a, *b).map(|e| (e, *a < *b, *a))
+                    }
+                    _ => None,
+                };
+                for s in 0..=steps {
+                    let t = s as f64 / steps as f64;
+                    points.push(p + (q - p) * t);
+                    locations.push(match ends {
+                        Some((_, _, a)) if s == 0 => SurfacePoint::Vertex(a),
+                        Some((edge, forward, _)) => SurfacePoint::Edge {
+                            edge,
+                            t: if forward { t } else { 1.0 - t },
+                        },
+                        None => line
+                            .locations
+                            .get(k)
+                            .copied()
+                            .unwrap_or(SurfacePoint::Face { face: 0 }),
+                    });
+                }
+            }
+        }
+        let grid = PointGrid::new(&points, spacing * 4.0);
+        CreaseSamples {
+            points,
+            locations,
+            grid,
+        }
+    }
+
+    fn nearest_within(&self, p: Vec3, radius: f64) -> Option<usize> {
+        self.grid.nearest_within(p, radius).map(|i| i as usize)
+    }
+}
+
+/// Merges `creases` (curves of [`crate::lines::crease`]) into `crest` lines (see the module
+/// docs). The crest lines come first in the result, then the crease curves. `locations` of
+/// the joined points are kept when the crease curves have theirs.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for options out of range.
+pub fn merge_creases(
+    mesh: &TriMesh,
+    crest: FeatureLines,
+    creases: FeatureLines,
+    options: &MergeOptions,
+) -> Result<FeatureLines> {
+    options.validate()?;
+    if creases.lines.is_empty() {
+        return Ok(crest);
+    }
+    let diagonal = mesh.bounding_box().diagonal();
+    let tolerance = options.tolerance * diagonal;
+    let spacing = (tolerance / 2.0).max(diagonal * 1e-6).max(f64::MIN_POSITIVE);
+    let samples = CreaseSamples::new(mesh, &creases, spacing);
+    let join = options.join_distance * diagonal;
+    let min_length = options.min_length * diagonal;
+    let mut lines = Vec::with_capacity(crest.lines.len() + creases.lines.len());
+    for line in crest.lines {
+        cut_line(line, &samples, tolerance, join, min_length, &mut lines);
+    }
+    lines.extend(creases.lines);
+    Ok(FeatureLines { lines })
+}
+
+/// Cuts the parts of `line` near a crease, joins the ends to the crease and pushes the
+/// pieces long enough onto `out`.
+fn cut_line(
+    line: FeatureLine,
+    samples: &CreaseSamples,
+    tolerance: f64,
+    join: f64,
+    min_length: f64,
+    out: &mut Vec<FeatureLine>,
+) {
+    let n = line.points.len();
+    let near: Vec<bool> = line
+        .points
+        .iter()
+        .map(|&p| samples.nearest_within(p, tolerance).is_some())
+        .collect();
+    if n == 0 {
+        return;
+    }
+    if !near.iter().any(|&x| x) {
+        let mut line = line;
+        if !line.closed {
+            let (first, last) = (line.points[0], line.points[n - 1]);
+            join_end(&mut line, samples, first, join, true);
+            join_end(&mut line, samples, last, join, false);
+        }
+        out.push(line);
+        return;
+    }
+    // Runs of points away from creases, in order; a closed line is opened at a near point.
+    let start = if line.closed {
+        near.iter().position(|&x| x).unwrap_or(0)
+    } else {
+        0
+    };
+    let order: Vec<usize> = (0..n).map(|k| (start + k) % n).collect();
+    let order: Vec<usize> = if line.closed {
+        order.into_iter().chain([start]).collect()
+    } else {
+        order
+    };
+    let has_locations = line.locations.len() == n;
+    let mut k = 0;
+    while k < order.len() {
+        if near[order[k]] {
+            k += 1;
+            continue;
+        }
+        let first = k;
+        while k < order.len() && !near[order[k]] {
+            k += 1;
+        }
+        let run = &order[first..k];
+        let mut piece = FeatureLine {
+            kind: line.kind,
+            points: run.iter().map(|&i| line.points[i]).collect(),
+            locations: if has_locations {
+                run.iter().map(|&i| line.locations[i]).collect()
+            } else {
+                Vec::new()
+            },
+            closed: false,
+            length: 0.0,
+            curvature_integral: 0.0,
+            strength: 0.0,
+            crease: false,
+        };
+        // Ends where the line was cut go to the crease point nearest to the point cut next
+        // to them; the line's own ends when they are within the join distance.
+        let (anchor, radius) = if first > 0 {
+            (line.points[order[first - 1]], tolerance)
+        } else {
+            (piece.points[0], join)
+        };
+        join_end(&mut piece, samples, anchor, radius, true);
+        let (anchor, radius) = if k < order.len() {
+            (line.points[order[k]], tolerance)
+        } else {
+            (*piece.points.last().unwrap_or(&anchor), join)
+        };
+        join_end(&mut piece, samples, anchor, radius, false);
+        piece.length = polyline_length(&piece.points, false);
+        if piece.length >= min_length && piece.points.len() >= 2 {
+            let ratio = if line.length > 0.0 {
+                (piece.length / line.length).min(1.0)
+            } else {
+                0.0
+            };
+            piece.curvature_integral = line.curvature_integral * ratio;
+            piece.strength = line.strength * ratio * ratio;
+            out.push(piece);
+        }
+    }
+}
+
+/// Extends `line` at its start (or end) to the crease sample nearest to `anchor`, if there is
+/// one within `radius` of it. `anchor` is the line's end itself, or for a cut end the point
+/// cut next to it (which is within the tolerance of the crease).
+fn join_end(
+    line: &mut FeatureLine,
+    samples: &CreaseSamples,
+    anchor: Vec3,
+    radius: f64,
+    at_start: bool,
+) {
+    let Some(i) = samples.nearest_within(anchor, radius) else {
+        return;
+    };
+    let (p, loc) = (samples.points[i], samples.locations[i]);
+    let end = if at_start {
+        line.points.first()
+    } else {
+        line.points.last()
+    };
+    if end.is_none_or(|&e| e == p) {
+        return;
+    }
+    let with_locations = !line.locations.is_empty();
+    if at_start {
+        line.points.insert(0, p);
+        if with_locations {
+            line.locations.insert(0, loc);
+        }
+    } else {
+        line.points.push(p);
+        if with_locations {
+            line.locations.push(loc);
+        }
+    }
+    line.length = polyline_length(&line.points, line.closed);
+}
+
+fn polyline_length(points: &[Vec3], closed: bool) -> f64 {
+    let open: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    match (closed, points.first(), points.last()) {
+        (true, Some(a), Some(b)) if points.len() > 2 => open + (a - b).norm(),
+        _ => open,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lines::LineKind;
+
+    fn grid_mesh() -> TriMesh {
+        // A flat 11 x 11 grid on [0, 1]^2: the mesh only gives the diagonal and topology.
+        let n = 11;
+        let mut p = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                p.push([i as f64 / 10.0, j as f64 / 10.0, 0.0]);
+            }
+        }
+        let mut f = Vec::new();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let a = (j * n + i) as u32;
+                f.push([a, a + 1, a + n as u32 + 1]);
+                f.push([a, a + n as u32 + 1, a + n as u32]);
+            }
+        }
+        TriMesh::from_arrays(p, f).unwrap()
+    }
+
+    fn line(points: &[[f64; 2]], crease: bool) -> FeatureLine {
+        let points: Vec<Vec3> = points.iter().map(|p| Vec3::new(p[0], p[1], 0.0)).collect();
+        FeatureLine {
+            kind: LineKind::Ridge,
+            length: polyline_length(&points, false),
+            points,
+            locations: Vec::new(),
+            closed: false,
+            curvature_integral: 1.0,
+            strength: 1.0,
+            crease,
+        }
+    }
+
+    #[test]
+    fn crest_line_along_a_crease_is_replaced_and_crossing_one_is_joined() {
+        let mesh = grid_mesh();
+        let crease = FeatureLines {
+            lines: vec![line(&[[0.5, 0.0], [0.5, 1.0]], true)],
+        };
+        // Runs along the crease 0.001 away, then turns off to the right.
+        let along = line(
+            &[[0.501, 0.1], [0.501, 0.3], [0.501, 0.5], [0.6, 0.5], [0.8, 0.5]],
+            false,
+        );
+        // Stops 0.01 short of the crease.
+        let short = line(&[[0.1, 0.7], [0.3, 0.7], [0.49, 0.7]], false);
+        let far = line(&[[0.1, 0.2], [0.2, 0.2]], false);
+        let crest = FeatureLines {
+            lines: vec![along, short, far.clone()],
+        };
+        let merged = merge_creases(&mesh, crest, crease, &MergeOptions::DEFAULT).unwrap();
+        assert_eq!(merged.lines.len(), 4);
+        let [a, b, c, d] = &merged.lines[..] else {
+            unreachable!()
+        };
+        // The part along the crease is gone; the rest starts on the crease.
+        assert!((a.points[0] - Vec3::new(0.5, 0.5, 0.0)).norm() < 0.003);
+        assert!(a.points.iter().all(|p| p.x >= 0.5));
+        assert!((b.points.last().unwrap() - Vec3::new(0.5, 0.7, 0.0)).norm() < 0.003);
+        assert_eq!(c, &far);
+        assert!(d.crease);
+    }
+
+    #[test]
+    fn no_creases_leaves_lines_alone() {
+        let mesh = grid_mesh();
+        let crest = FeatureLines {
+            lines: vec![line(&[[0.1, 0.7], [0.3, 0.7]], false)],
+        };
+        let merged = merge_creases(
+            &mesh,
+            crest.clone(),
+            FeatureLines::default(),
+            &MergeOptions::DEFAULT,
+        )
+        .unwrap();
+        assert_eq!(merged, crest);
+    }
+}
