@@ -465,7 +465,7 @@ pub fn extract_with_progress(
     }
     if !creases.is_empty() {
         let t = clock.begin(Stage::Merging);
-        lines = merge_creases(mesh, lines, creases.lines(mesh), &options.merge)?;
+        lines = merge_creases(mesh, lines, &creases, &options.merge)?;
         clock.end(Stage::Merging, t);
     }
     stats.stage_times = clock.times;

@@ -234,6 +234,13 @@ pub const FLAT_ANGLE: f64 = 1.0;
 /// hexagonal prism).
 pub const MAX_FACET_TURN: f64 = 30.0;
 
+/// The largest chordal deviation of a tessellation, as a fraction of the bounding-box
+/// diagonal: CAD exporters use about 0.0005 (the shared parts) or less. Two parallel edges
+/// turning by θ at a distance d stand for a smooth surface only if its chords deviate by
+/// d·θ/8 at most this much; farther apart they are two creases (the 10° edges around the flat
+/// top of a frustum).
+pub const MAX_CHORD_DEVIATION: f64 = 0.002;
+
 /// Bins of the histogram per doubling of the angle.
 const BINS_PER_OCTAVE: f64 = 8.0;
 /// A gap spans at least this ratio of angles.
@@ -291,9 +298,14 @@ fn runs_from(t: [u32; 3], a: u32, b: u32) -> bool {
 /// weighing its length; smaller angles are flat. A gap is a run of bins spanning at least a
 /// ratio of 1.5 whose weight is at most a tenth of that of the run of the same width on
 /// either side (the flat edges belong to a run on the low side that reaches below
-/// [`FLAT_ANGLE`]), with at least four edges on each side. The lowest gap wins (creases can
-/// have gaps between them too, a tessellation of smooth faces does not); the threshold is the
-/// geometric middle of its widest extent. NaN angles are ignored.
+/// [`FLAT_ANGLE`]), with at least four edges on each side. The threshold is the geometric
+/// middle of the chosen gap at its widest extent. NaN angles are ignored.
+///
+/// A CAD tessellation can show narrower gaps too, between its planar faces and the facets of
+/// its curved ones (the hex nut of `../shared/quality`: nothing from 1° to 1.5°, cone facets
+/// above) and between creases of different angles; the gap between the tessellation and the
+/// creases is the wide one. So the lowest gap at least half as wide (on the log scale) as the
+/// widest one wins.
 pub fn gap_threshold(angles: &[f64], lengths: &[f64]) -> Option<f64> {
     let floor = FLAT_ANGLE.to_radians().ln();
     let step = std::f64::consts::LN_2 / BINS_PER_OCTAVE;
@@ -336,27 +348,33 @@ pub fn gap_threshold(angles: &[f64], lengths: &[f64]) -> Option<f64> {
             && right_count >= MIN_SIDE_EDGES
             && gap <= MAX_GAP_SHARE * left.min(right)
     };
-    for i in 0..bins {
-        let mut end = None;
-        for j in i + min_width..=bins {
-            if is_gap(i, j) {
-                end = Some(j);
-            } else if end.is_some() {
-                break;
+    // Each start's widest extent: for every start bin, the first valid end and those after
+    // it while they stay valid.
+    let gaps: Vec<(usize, usize)> = (0..bins)
+        .filter_map(|i| {
+            let mut end = None;
+            for j in i + min_width..=bins {
+                if is_gap(i, j) {
+                    end = Some(j);
+                } else if end.is_some() {
+                    break;
+                }
             }
-        }
-        if let Some(j) = end {
-            return Some((floor + step * (i + j) as f64 / 2.0).exp());
-        }
-    }
-    None
+            end.map(|j| (i, j))
+        })
+        .collect();
+    let widest = gaps.iter().map(|(i, j)| j - i).max()?;
+    gaps.iter()
+        .find(|(i, j)| 2 * (j - i) >= widest)
+        .map(|(i, j)| (floor + step * (i + j) as f64 / 2.0).exp())
 }
 
 /// True when edge `e` looks like one edge of the tessellation of a smooth surface: it turns
 /// by less than [`MAX_FACET_TURN`], and at the far corner of one of its two triangles an edge
 /// within 30° of parallel to it turns the same way by between a third and three times its
-/// angle. `angles` are those of [`dihedral_angles`].
-pub fn is_facet_edge(mesh: &TriMesh, angles: &[f64], e: u32) -> bool {
+/// angle, close enough for a chordal deviation below [`MAX_CHORD_DEVIATION`] times
+/// `diagonal`. `angles` are those of [`dihedral_angles`].
+pub fn is_facet_edge(mesh: &TriMesh, angles: &[f64], e: u32, diagonal: f64) -> bool {
     let theta = angles[e as usize];
     if !(theta.is_finite() && theta.abs() < MAX_FACET_TURN.to_radians()) {
         return false;
@@ -374,6 +392,11 @@ pub fn is_facet_edge(mesh: &TriMesh, angles: &[f64], e: u32) -> bool {
         else {
             return false;
         };
+        let to_c = mesh.position(c) - mesh.position(a);
+        let distance = (to_c - dir * to_c.dot(&dir)).norm();
+        if distance * theta.abs() / 8.0 > MAX_CHORD_DEVIATION * diagonal {
+            return false;
+        }
         topo.vertex_edges(c).iter().any(|&n| {
             let phi = angles[n as usize];
             if n == e || !phi.is_finite() || phi * theta <= 0.0 {
@@ -569,15 +592,15 @@ fn creases_above(
     let Some(t) = threshold else {
         return Creases::none(mesh.topology().num_edges());
     };
+    let diagonal = mesh.bounding_box().diagonal();
     let is_crease: Vec<bool> = (0..angles.len() as u32)
         .into_par_iter()
         .map(|e| {
             let a = angles[e as usize];
-            a.is_finite() && a.abs() > t && !is_facet_edge(mesh, angles, e)
+            a.is_finite() && a.abs() > t && !is_facet_edge(mesh, angles, e, diagonal)
         })
         .collect();
     let mut curves = chain_crease_edges(mesh, &is_crease, angles, options.corner_angle);
-    let diagonal = mesh.bounding_box().diagonal();
     let dropped = drop_stray_curves(&mut curves, options.min_length * diagonal);
     let topo = mesh.topology();
     let mut edges = vec![false; topo.num_edges()];

@@ -10,6 +10,10 @@
 //! - a crest line that ends near a crease (its own end, or where such a cut was made) is
 //!   joined to the nearest point of the crease, when that point is within
 //!   [`MergeOptions::join_distance`];
+//! - crest lines are also cut where they cross a triangle whose three corners lie on creases
+//!   (on one of its edges or inside it): their position comes from the fields at those
+//!   corners, which are the one-sided estimates of the creases. In the fans of a CAD export,
+//!   which have no vertex inside a face, such lines say nothing about the face in between;
 //! - what is left of a cut crest line must still be [`MergeOptions::min_length`] long;
 //! - crest lines away from creases (fillets, blends, freeform parts) are kept as they are.
 //!
@@ -18,6 +22,7 @@
 //! strengths are scaled to the part kept (T = ∫ds·∫C ds by the square of the length ratio,
 //! ∫|k|ds by the ratio).
 
+use super::crease::Creases;
 use super::{FeatureLine, FeatureLines, SurfacePoint};
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3};
@@ -132,22 +137,34 @@ impl CreaseSamples {
     }
 }
 
-/// Merges `creases` (curves of [`crate::lines::crease`]) into `crest` lines (see the module
-/// docs). The crest lines come first in the result, then the crease curves. `locations` of
-/// the joined points are kept when the crease curves have theirs.
+/// Merges `creases` (found by [`crate::lines::crease::find_creases`] on `mesh`) into `crest`
+/// lines (see the module docs). The crest lines come first in the result, then the crease
+/// curves.
 ///
 /// # Errors
-/// [`Error::InvalidInput`] for options out of range.
+/// [`Error::InvalidInput`] for options out of range or creases of another mesh.
 pub fn merge_creases(
     mesh: &TriMesh,
     crest: FeatureLines,
-    creases: FeatureLines,
+    creases: &Creases,
     options: &MergeOptions,
 ) -> Result<FeatureLines> {
     options.validate()?;
-    if creases.lines.is_empty() {
+    if creases.curves.is_empty() {
         return Ok(crest);
     }
+    if creases.curves.iter().flat_map(|c| &c.vertices).any(|&v| v as usize >= mesh.num_vertices())
+    {
+        return Err(Error::InvalidInput(
+            "crease curves refer to vertices the mesh does not have".into(),
+        ));
+    }
+    let on_crease = creases.vertices(mesh);
+    let creases = creases.lines(mesh);
+    let supported = Support {
+        mesh,
+        on_crease: &on_crease,
+    };
     let diagonal = mesh.bounding_box().diagonal();
     let tolerance = options.tolerance * diagonal;
     let spacing = (tolerance / 2.0).max(diagonal * 1e-6).max(f64::MIN_POSITIVE);
@@ -156,7 +173,7 @@ pub fn merge_creases(
     let min_length = options.min_length * diagonal;
     let mut lines = Vec::with_capacity(crest.lines.len() + creases.lines.len());
     for line in crest.lines {
-        cut_line(line, &samples, tolerance, join, min_length, &mut lines);
+        cut_line(line, &samples, &supported, tolerance, join, min_length, &mut lines);
     }
     lines.extend(creases.lines);
     Ok(FeatureLines { lines })
@@ -167,16 +184,19 @@ pub fn merge_creases(
 fn cut_line(
     line: FeatureLine,
     samples: &CreaseSamples,
+    support: &Support<'_>,
     tolerance: f64,
     join: f64,
     min_length: f64,
     out: &mut Vec<FeatureLine>,
 ) {
     let n = line.points.len();
-    let near: Vec<bool> = line
-        .points
-        .iter()
-        .map(|&p| samples.nearest_within(p, tolerance).is_some())
+    let has_locations = line.locations.len() == n;
+    let near: Vec<bool> = (0..n)
+        .map(|k| {
+            (has_locations && !support.is_supported(line.locations[k]))
+                || samples.nearest_within(line.points[k], tolerance).is_some()
+        })
         .collect();
     if n == 0 {
         return;
@@ -203,7 +223,6 @@ fn cut_line(
     } else {
         order
     };
-    let has_locations = line.locations.len() == n;
     let mut k = 0;
     while k < order.len() {
         if near[order[k]] {
@@ -253,6 +272,34 @@ fn cut_line(
             piece.curvature_integral = line.curvature_integral * ratio;
             piece.strength = line.strength * ratio * ratio;
             out.push(piece);
+        }
+    }
+}
+
+/// Which line points have a vertex off the creases among the corners their position is
+/// interpolated from.
+struct Support<'a> {
+    mesh: &'a TriMesh,
+    on_crease: &'a [bool],
+}
+
+impl Support<'_> {
+    fn is_supported(&self, location: SurfacePoint) -> bool {
+        let topo = self.mesh.topology();
+        let off = |v: u32| !self.on_crease.get(v as usize).copied().unwrap_or(false);
+        match location {
+            SurfacePoint::Vertex(v) => off(v),
+            SurfacePoint::Edge { edge, .. } => {
+                if edge as usize >= topo.num_edges() {
+                    return true;
+                }
+                let [a, b] = topo.edge(edge);
+                off(a) || off(b)
+            }
+            SurfacePoint::Face { face } => topo
+                .faces()
+                .get(face as usize)
+                .is_none_or(|t| t.iter().any(|&v| off(v))),
         }
     }
 }
@@ -341,12 +388,31 @@ mod tests {
         }
     }
 
+    /// The grid's column x = 0.5 as a crease.
+    fn middle_crease(mesh: &TriMesh) -> Creases {
+        let vertices: Vec<u32> = (0..11).map(|j| j * 11 + 5).collect();
+        let mut edges = vec![false; mesh.topology().num_edges()];
+        for w in vertices.windows(2) {
+            edges[mesh.topology().edge_between(w[0], w[1]).unwrap() as usize] = true;
+        }
+        Creases {
+            threshold: Some(30.0),
+            edges,
+            curves: vec![crate::lines::crease::CreaseCurve {
+                vertices,
+                closed: false,
+                convex: true,
+                length: 1.0,
+                turning: 0.5,
+            }],
+            dropped: 0,
+        }
+    }
+
     #[test]
     fn crest_line_along_a_crease_is_replaced_and_crossing_one_is_joined() {
         let mesh = grid_mesh();
-        let crease = FeatureLines {
-            lines: vec![line(&[[0.5, 0.0], [0.5, 1.0]], true)],
-        };
+        let crease = middle_crease(&mesh);
         // Runs along the crease 0.001 away, then turns off to the right.
         let along = line(
             &[[0.501, 0.1], [0.501, 0.3], [0.501, 0.5], [0.6, 0.5], [0.8, 0.5]],
@@ -358,7 +424,7 @@ mod tests {
         let crest = FeatureLines {
             lines: vec![along, short, far.clone()],
         };
-        let merged = merge_creases(&mesh, crest, crease, &MergeOptions::DEFAULT).unwrap();
+        let merged = merge_creases(&mesh, crest, &crease, &MergeOptions::DEFAULT).unwrap();
         assert_eq!(merged.lines.len(), 4);
         let [a, b, c, d] = &merged.lines[..] else {
             unreachable!()
@@ -377,13 +443,38 @@ mod tests {
         let crest = FeatureLines {
             lines: vec![line(&[[0.1, 0.7], [0.3, 0.7]], false)],
         };
+        let none = Creases::none(mesh.topology().num_edges());
+        let merged = merge_creases(&mesh, crest.clone(), &none, &MergeOptions::DEFAULT).unwrap();
+        assert_eq!(merged, crest);
+    }
+
+    #[test]
+    fn points_between_crease_vertices_only_are_cut() {
+        let mesh = grid_mesh();
+        let creases = middle_crease(&mesh);
+        // A line along the grid row y = 0.5 with mesh locations at the vertices: x = 0.4 and
+        // x = 0.6 are off the crease, x = 0.5 is on it.
+        let row: Vec<u32> = (0..11).map(|i| 5 * 11 + i).collect();
+        let mut crest = line(
+            &row.iter()
+                .map(|&v| [mesh.position(v).x, mesh.position(v).y])
+                .collect::<Vec<_>>(),
+            false,
+        );
+        crest.locations = row.iter().map(|&v| SurfacePoint::Vertex(v)).collect();
+        let options = MergeOptions {
+            tolerance: 0.0,
+            ..MergeOptions::DEFAULT
+        };
         let merged = merge_creases(
             &mesh,
-            crest.clone(),
-            FeatureLines::default(),
-            &MergeOptions::DEFAULT,
+            FeatureLines { lines: vec![crest] },
+            &creases,
+            &options,
         )
         .unwrap();
-        assert_eq!(merged, crest);
+        // Two pieces joined to the crease, and the crease.
+        assert_eq!(merged.lines.len(), 3);
+        assert!(merged.lines[..2].iter().all(|l| l.points.len() == 6));
     }
 }
