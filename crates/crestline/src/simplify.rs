@@ -14,7 +14,14 @@
 //! budget far from them and keeps the mesh dense along them. `η = 0` is plain QEM.
 //!
 //! [`simplify`] runs the public steps in order: [`crate::distance::feature_distance`] →
-//! [`feature_weights`] → [`decimate`].
+//! [`feature_weights`] → [`crease_vertices`] → [`decimate_constrained`].
+//!
+//! **Creases** (lines with [`crate::lines::FeatureLine::crease`] set, issue 20) are
+//! constraints: their vertices are fixed (no collapse touches them), so every crease of the
+//! input is in the result exactly, vertex for vertex. The sharp edges of a CAD part are then
+//! kept however far the rest is simplified. Crease points are found on the mesh by their
+//! locations, or, for lines read from a file, by their positions (mesh vertices within
+//! 1e-9 of the diagonal).
 //!
 //! ## The decimation
 //! - **Quadrics.** Each triangle contributes `w · area · (plane quadric)` to its three
@@ -74,8 +81,8 @@ use rayon::prelude::*;
 
 use crate::distance::{DistanceOptions, FeatureDistance, feature_distance};
 use crate::error::{Error, Result};
-use crate::lines::FeatureLines;
-use crate::mesh::{TriMesh, Vec3, VertexKind};
+use crate::lines::{FeatureLines, SurfacePoint};
+use crate::mesh::{TriMesh, Vec3, VertexKind, mean_edge_length};
 
 /// How many triangles the simplified mesh should have.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -123,6 +130,9 @@ pub struct SimplifyOptions {
     /// How the feature distance is computed. Not used by [`decimate`].
     /// Default: [`DistanceOptions::DEFAULT`].
     pub distance: DistanceOptions,
+    /// Keep the vertices of crease lines where they are (see the module docs). Not used by
+    /// [`decimate`]. Default: `true`.
+    pub keep_creases: bool,
 }
 
 impl SimplifyOptions {
@@ -134,6 +144,7 @@ impl SimplifyOptions {
         boundary_weight: 10.0,
         max_normal_rotation: 60.0,
         distance: DistanceOptions::DEFAULT,
+        keep_creases: true,
     };
 
     /// Sets [`SimplifyOptions::target`].
@@ -194,12 +205,14 @@ pub struct Rejections {
     pub flip: usize,
     /// A moved triangle would lose (almost) all its area.
     pub degenerate: usize,
+    /// An end point is a fixed vertex (on a crease).
+    pub fixed: usize,
 }
 
 impl Rejections {
     /// The sum over all reasons.
     pub fn total(&self) -> usize {
-        self.non_manifold + self.boundary + self.link + self.flip + self.degenerate
+        self.non_manifold + self.boundary + self.link + self.flip + self.degenerate + self.fixed
     }
 }
 
@@ -256,7 +269,42 @@ pub fn simplify(
         let distance = feature_distance(mesh, lines, &options.distance)?;
         feature_weights(&distance, options.eta, options.eps)
     };
-    decimate(mesh, &weights, options)
+    let fixed = if options.keep_creases {
+        crease_vertices(mesh, lines)
+    } else {
+        Vec::new()
+    };
+    decimate_constrained(mesh, &weights, options, &fixed)
+}
+
+/// Per vertex of `mesh`: true for a vertex of a crease line of `lines` (by its location, or
+/// else a vertex at its position within 1e-9 of the diagonal). All false without creases.
+pub fn crease_vertices(mesh: &TriMesh, lines: &FeatureLines) -> Vec<bool> {
+    let n = mesh.num_vertices();
+    let mut fixed = vec![false; n];
+    let creases: Vec<_> = lines.lines.iter().filter(|l| l.crease).collect();
+    if creases.is_empty() {
+        return fixed;
+    }
+    let tolerance = 1e-9 * mesh.bounding_box().diagonal();
+    let mut grid = None;
+    for line in creases {
+        for (k, p) in line.points.iter().enumerate() {
+            if let Some(SurfacePoint::Vertex(v)) = line.locations.get(k)
+                && (*v as usize) < n
+            {
+                fixed[*v as usize] = true;
+                continue;
+            }
+            let grid = grid.get_or_insert_with(|| {
+                crate::spatial::PointGrid::new(mesh.positions(), mean_edge_length(mesh))
+            });
+            if let Some(v) = grid.nearest_within(*p, tolerance) {
+                fixed[v as usize] = true;
+            }
+        }
+    }
+    fixed
 }
 
 /// Per-triangle weights `w = 1 / F(d)` with `F(d) = (d / max(d) + eps)^eta` (YBS eq. 7).
@@ -295,10 +343,33 @@ pub fn decimate(
     face_weights: &[f64],
     options: &SimplifyOptions,
 ) -> Result<Simplified> {
+    decimate_constrained(mesh, face_weights, options, &[])
+}
+
+/// [`decimate`] keeping the vertices flagged in `fixed` (one flag per vertex, or none at all)
+/// where they are: no collapse touches them.
+///
+/// # Errors
+/// As [`decimate`]; [`Error::InvalidInput`] when `fixed` is neither empty nor one flag per
+/// vertex.
+pub fn decimate_constrained(
+    mesh: &TriMesh,
+    face_weights: &[f64],
+    options: &SimplifyOptions,
+    fixed: &[bool],
+) -> Result<Simplified> {
     validate(mesh, face_weights, options)?;
+    if !(fixed.is_empty() || fixed.len() == mesh.num_vertices()) {
+        return Err(Error::InvalidInput(format!(
+            "{} fixed-vertex flags for {} vertices",
+            fixed.len(),
+            mesh.num_vertices()
+        )));
+    }
     let faces_before = mesh.num_faces();
     let target_faces = options.target.faces_for(faces_before);
     let mut decimator = Decimator::new(mesh, face_weights, options);
+    decimator.fixed = fixed.to_vec();
     let mut passes = 0;
     while decimator.live_faces > target_faces {
         passes += 1;
@@ -443,6 +514,7 @@ enum Refusal {
     Link,
     Flip,
     Degenerate,
+    Fixed,
 }
 
 /// A planned collapse: `remove` merges into `keep`, which moves to `target`; `source` is the
@@ -591,6 +663,8 @@ struct Decimator<'m> {
     quadrics: Vec<Quadric>,
     boundary: Vec<bool>,
     locked: Vec<bool>,
+    /// Vertices no collapse may touch (on creases); empty for none.
+    fixed: Vec<bool>,
     /// Version stamp per vertex, bumped by every collapse that keeps the vertex;
     /// [`REMOVED`] once it is merged away (one array, so a liveness check reads two words).
     version: Vec<u32>,
@@ -662,6 +736,7 @@ impl<'m> Decimator<'m> {
                 .iter()
                 .map(|&k| k == VertexKind::NonManifold)
                 .collect(),
+            fixed: Vec::new(),
             // Unreferenced vertices take part in nothing.
             version: kinds
                 .iter()
@@ -776,6 +851,7 @@ impl<'m> Decimator<'m> {
             Refusal::Link => r.link += 1,
             Refusal::Flip => r.flip += 1,
             Refusal::Degenerate => r.degenerate += 1,
+            Refusal::Fixed => r.fixed += 1,
         }
     }
 
@@ -807,6 +883,9 @@ impl<'m> Decimator<'m> {
     fn plan_collapse(&self, u: u32, v: u32) -> Result<Plan, Refusal> {
         if self.locked[u as usize] || self.locked[v as usize] {
             return Err(Refusal::NonManifold);
+        }
+        if !self.fixed.is_empty() && (self.fixed[u as usize] || self.fixed[v as usize]) {
+            return Err(Refusal::Fixed);
         }
         let q = self.quadrics[u as usize].sum(&self.quadrics[v as usize]);
         let (pu, pv) = (self.positions[u as usize], self.positions[v as usize]);

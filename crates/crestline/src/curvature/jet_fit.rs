@@ -475,63 +475,13 @@ impl Context<'_> {
         }
     }
 
-    /// Puts into the disc the vertices (within `r2` of v, squared) of the side of crease
-    /// vertex `v` with the largest angle at v: its faces joined across edges that are not
-    /// creases. Sets the side's area normal.
+    /// Puts into the disc the vertices (within `r2` of v, squared) of the widest side of
+    /// crease vertex `v` ([`crate::lines::crease::widest_side`]). Sets the side's area normal.
     fn seed_side(&self, v: u32, split: &Split<'_>, r2: f64, s: &mut Scratch) {
-        let topo = self.mesh.topology();
-        let faces = topo.vertex_faces(v);
         let p = self.mesh.position(v);
-        // Union-find over the faces at v (few), joined across non-crease edges at v.
-        let mut side: Vec<usize> = (0..faces.len()).collect();
-        fn root(side: &mut [usize], mut i: usize) -> usize {
-            while side[i] != i {
-                side[i] = side[side[i]];
-                i = side[i];
-            }
-            i
-        }
-        for (i, &f) in faces.iter().enumerate() {
-            for e in topo.face_edges(f) {
-                let Some(&flag) = split.edges.get(e as usize) else {
-                    continue;
-                };
-                let [a, b] = topo.edge(e);
-                if flag || (a != v && b != v) {
-                    continue;
-                }
-                for &g in topo.edge_faces(e) {
-                    if let Some(j) = faces.iter().position(|&h| h == g) {
-                        let (ri, rj) = (root(&mut side, i), root(&mut side, j));
-                        side[ri] = rj;
-                    }
-                }
-            }
-        }
-        let corner_angle = |f: u32| {
-            let t = self.mesh.faces()[f as usize];
-            let others: Vec<Vec3> = t
-                .iter()
-                .filter(|&&q| q != v)
-                .map(|&q| self.mesh.position(q) - p)
-                .collect();
-            match others[..] {
-                [a, b] => a.angle(&b),
-                _ => 0.0,
-            }
-        };
-        let mut total = vec![0.0; faces.len()];
-        for (i, &f) in faces.iter().enumerate() {
-            total[root(&mut side, i)] += corner_angle(f);
-        }
-        let Some(best) = (0..faces.len()).max_by(|&a, &b| total[a].total_cmp(&total[b])) else {
-            return;
-        };
+        let side = crate::lines::crease::widest_side(self.mesh, v, split.edges);
         let stamp = s.stamp;
-        for (i, &f) in faces.iter().enumerate() {
-            if root(&mut side, i) != best {
-                continue;
-            }
+        for f in side {
             let [a, b, c] = self.mesh.triangle(f as usize);
             s.side_normal += (b - a).cross(&(c - a)) / 6.0;
             for q in self.mesh.faces()[f as usize] {

@@ -414,6 +414,66 @@ pub fn is_facet_edge(mesh: &TriMesh, angles: &[f64], e: u32, diagonal: f64) -> b
     })
 }
 
+/// The faces at vertex `v` on its widest side: the faces around v joined across edges at v
+/// that are not flagged in `crease_edges` (per edge), grouped into sides, and of those the one
+/// with the largest total angle at v (ties: the first found). All faces of v when no crease
+/// edge meets it. A vertex on a crease is a sample of every side; its own fit and fields
+/// describe this one (see [`crate::curvature::jet_fit`]).
+pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
+    let topo = mesh.topology();
+    let faces = topo.vertex_faces(v);
+    let p = mesh.position(v);
+    // Union-find over the (few) faces at v.
+    let mut side: Vec<usize> = (0..faces.len()).collect();
+    fn root(side: &mut [usize], mut i: usize) -> usize {
+        while side[i] != i {
+            side[i] = side[side[i]];
+            i = side[i];
+        }
+        i
+    }
+    for (i, &f) in faces.iter().enumerate() {
+        for e in topo.face_edges(f) {
+            let Some(&flag) = crease_edges.get(e as usize) else {
+                continue;
+            };
+            let [a, b] = topo.edge(e);
+            if flag || (a != v && b != v) {
+                continue;
+            }
+            for &g in topo.edge_faces(e) {
+                if let Some(j) = faces.iter().position(|&h| h == g) {
+                    let (ri, rj) = (root(&mut side, i), root(&mut side, j));
+                    side[ri] = rj;
+                }
+            }
+        }
+    }
+    let corner_angle = |f: u32| {
+        let others: Vec<Vec3> = mesh.faces()[f as usize]
+            .iter()
+            .filter(|&&q| q != v)
+            .map(|&q| mesh.position(q) - p)
+            .collect();
+        match others[..] {
+            [a, b] => a.angle(&b),
+            _ => 0.0,
+        }
+    };
+    let mut total = vec![0.0; faces.len()];
+    for (i, &f) in faces.iter().enumerate() {
+        total[root(&mut side, i)] += corner_angle(f);
+    }
+    let Some(best) = (0..faces.len()).max_by(|&a, &b| total[a].total_cmp(&total[b]).then(b.cmp(&a)))
+    else {
+        return Vec::new();
+    };
+    (0..faces.len())
+        .filter(|&i| root(&mut side, i) == best)
+        .map(|i| faces[i])
+        .collect()
+}
+
 /// Chains the edges flagged in `is_crease` into curves (see the module docs, step 4).
 /// `angles` are those of [`dihedral_angles`]; `corner_angle` in degrees.
 pub fn chain_crease_edges(

@@ -10,10 +10,12 @@
 //! - a crest line that ends near a crease (its own end, or where such a cut was made) is
 //!   joined to the nearest point of the crease, when that point is within
 //!   [`MergeOptions::join_distance`];
-//! - crest lines are also cut where they cross a triangle whose three corners lie on creases
-//!   (on one of its edges or inside it): their position comes from the fields at those
-//!   corners, which are the one-sided estimates of the creases. In the fans of a CAD export,
-//!   which have no vertex inside a face, such lines say nothing about the face in between;
+//! - crest lines are also cut where their position is interpolated from fields that do not
+//!   describe the surface there: at a point on an edge or inside a triangle, every corner it is
+//!   interpolated from that lies on a crease must have been estimated for that side of the
+//!   crease ([`crate::lines::crease::widest_side`]), and one of them must be off the creases.
+//!   In the fans of a CAD export, which have no vertex inside a face, crest lines through a
+//!   face interpolate the one-sided estimates of its boundary and say nothing about the face;
 //! - what is left of a cut crest line must still be [`MergeOptions::min_length`] long;
 //! - crest lines away from creases (fillets, blends, freeform parts) are kept as they are.
 //!
@@ -22,7 +24,7 @@
 //! strengths are scaled to the part kept (T = ∫ds·∫C ds by the square of the length ratio,
 //! ∫|k|ds by the ratio).
 
-use super::crease::Creases;
+use super::crease::{Creases, widest_side};
 use super::{FeatureLine, FeatureLines, SurfacePoint};
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3};
@@ -160,14 +162,22 @@ pub fn merge_creases(
         ));
     }
     let on_crease = creases.vertices(mesh);
+    let sides: std::collections::HashMap<u32, Vec<u32>> = on_crease
+        .iter()
+        .enumerate()
+        .filter(|(_, on)| **on)
+        .map(|(v, _)| (v as u32, widest_side(mesh, v as u32, &creases.edges)))
+        .collect();
     let creases = creases.lines(mesh);
     let supported = Support {
         mesh,
         on_crease: &on_crease,
+        sides: &sides,
     };
     let diagonal = mesh.bounding_box().diagonal();
     let tolerance = options.tolerance * diagonal;
-    let spacing = (tolerance / 2.0).max(diagonal * 1e-6).max(f64::MIN_POSITIVE);
+    // At most 5,000 samples per diagonal of crease, whatever the tolerance.
+    let spacing = (tolerance / 2.0).max(diagonal * 2e-4).max(f64::MIN_POSITIVE);
     let samples = CreaseSamples::new(mesh, &creases, spacing);
     let join = options.join_distance * diagonal;
     let min_length = options.min_length * diagonal;
@@ -276,17 +286,30 @@ fn cut_line(
     }
 }
 
-/// Which line points have a vertex off the creases among the corners their position is
-/// interpolated from.
+/// Which line points are interpolated from fields that describe the surface there (see the
+/// module docs).
 struct Support<'a> {
     mesh: &'a TriMesh,
     on_crease: &'a [bool],
+    /// The faces each crease vertex's fields describe.
+    sides: &'a std::collections::HashMap<u32, Vec<u32>>,
 }
 
 impl Support<'_> {
     fn is_supported(&self, location: SurfacePoint) -> bool {
         let topo = self.mesh.topology();
         let off = |v: u32| !self.on_crease.get(v as usize).copied().unwrap_or(false);
+        // Corners `corners` read in faces `faces`: each on a crease must describe one of them.
+        let valid = |corners: &[u32], faces: &[u32]| {
+            corners.iter().any(|&v| off(v))
+                && corners.iter().all(|&v| {
+                    off(v)
+                        || self
+                            .sides
+                            .get(&v)
+                            .is_some_and(|side| faces.iter().any(|f| side.contains(f)))
+                })
+        };
         match location {
             SurfacePoint::Vertex(v) => off(v),
             SurfacePoint::Edge { edge, .. } => {
@@ -294,12 +317,12 @@ impl Support<'_> {
                     return true;
                 }
                 let [a, b] = topo.edge(edge);
-                off(a) || off(b)
+                valid(&[a, b], topo.edge_faces(edge))
             }
             SurfacePoint::Face { face } => topo
                 .faces()
                 .get(face as usize)
-                .is_none_or(|t| t.iter().any(|&v| off(v))),
+                .is_none_or(|t| valid(t, &[face])),
         }
     }
 }

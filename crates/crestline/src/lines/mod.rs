@@ -7,6 +7,10 @@
 //!
 //! YBS 2005 trace edge by edge instead ([`trace_edges`], after Ohtake et al. 2004) and join
 //! broken pieces by gap jumping ([`gap`]); [`trace_crest_lines`] runs that for both families.
+//!
+//! Sharp creases are not crest lines: [`crease`] finds them as chains of mesh edges with a
+//! large dihedral angle, and [`merge`] puts them and the crest lines into one set
+//! ([`FeatureLine::crease`] tells them apart).
 
 pub mod assemble;
 pub mod crease;

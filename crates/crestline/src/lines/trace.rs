@@ -272,6 +272,7 @@ mod tests {
             e: &e,
             e_other: &zero,
             dirs: &dirs,
+            e_noise: 0.0,
         };
         let t01 = fam.crossing(0, 1).unwrap();
         let t10 = fam.crossing(1, 0).unwrap();
