@@ -760,6 +760,28 @@ fn check_method(method: Method) {
             result.stats.creases,
         );
         if s.f1() < 0.98 || s.on_planes > 0.0 || s.corners_missed > 0 {
+            // CAD_SHAPES_DUMP=folder keeps the mesh and the lines of a failure.
+            if let Some(dir) = std::env::var_os("CAD_SHAPES_DUMP") {
+                let stem = std::path::Path::new(&dir).join(
+                    format!("{method:?}-{}", solid.name).replace([' ', '(', ')'], "_"),
+                );
+                let mesh_path = stem.with_extension("obj");
+                crestline::io::write_mesh(
+                    &mesh_path,
+                    &solid.mesh,
+                    crestline::io::Format::Obj,
+                    &Default::default(),
+                )
+                    .unwrap();
+                let lines_path = stem.with_extension("json");
+                crestline::io::lines::write_lines(
+                    &lines_path,
+                    &result.lines,
+                    None,
+                    crestline::io::PlyEncoding::Ascii,
+                )
+                .unwrap();
+            }
             failures.push(solid.name.clone());
         }
     }

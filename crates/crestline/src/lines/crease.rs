@@ -166,6 +166,9 @@ pub struct Creases {
     pub curves: Vec<CreaseCurve>,
     /// Curves dropped as stray edges.
     pub dropped: usize,
+    /// Cone points ([`cone_points`]): vertices where the surface comes to a point (the tip
+    /// of a cone) without a crease.
+    pub cones: Vec<u32>,
 }
 
 impl Creases {
@@ -176,17 +179,23 @@ impl Creases {
             edges: vec![false; num_edges],
             curves: Vec::new(),
             dropped: 0,
+            cones: Vec::new(),
         }
     }
 
-    /// True when no crease was kept.
+    /// True when no crease was kept (cone points do not count).
     pub fn is_empty(&self) -> bool {
         self.curves.is_empty()
     }
 
-    /// Per vertex: true for a vertex on a kept crease edge.
+    /// Per vertex: true for a vertex on a kept crease edge or a cone point.
     pub fn vertices(&self, mesh: &TriMesh) -> Vec<bool> {
         let mut on = vec![false; mesh.num_vertices()];
+        for &v in &self.cones {
+            if let Some(x) = on.get_mut(v as usize) {
+                *x = true;
+            }
+        }
         for c in &self.curves {
             for &v in &c.vertices {
                 on[v as usize] = true;
@@ -474,6 +483,46 @@ pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
         .collect()
 }
 
+/// Cone points: interior vertices whose angle deficit `2π − Σ angles` exceeds
+/// [`MAX_FACET_TURN`] in magnitude and that no crease edge meets. A tessellation of a smooth
+/// surface spreads its Gaussian curvature over many vertices; a cone's tip holds it all in one
+/// (2.8 rad on a cone of half-angle 34°). Crest lines near one come from fits that straddle
+/// the tip ([`crate::lines::merge`] cuts them).
+pub fn cone_points(mesh: &TriMesh, crease_edges: &[bool]) -> Vec<u32> {
+    let topo = mesh.topology();
+    (0..mesh.num_vertices() as u32)
+        .into_par_iter()
+        .filter(|&v| {
+            let edges = topo.vertex_edges(v);
+            if edges.is_empty()
+                || topo.vertex_kind(v) != crate::mesh::VertexKind::Interior
+                || edges
+                    .iter()
+                    .any(|&e| crease_edges.get(e as usize).copied().unwrap_or(false))
+            {
+                return false;
+            }
+            let p = mesh.position(v);
+            let total: f64 = topo
+                .vertex_faces(v)
+                .iter()
+                .map(|&f| {
+                    let others: Vec<Vec3> = mesh.faces()[f as usize]
+                        .iter()
+                        .filter(|&&q| q != v)
+                        .map(|&q| mesh.position(q) - p)
+                        .collect();
+                    match others[..] {
+                        [a, b] => a.angle(&b),
+                        _ => 0.0,
+                    }
+                })
+                .sum();
+            (std::f64::consts::TAU - total).abs() > MAX_FACET_TURN.to_radians()
+        })
+        .collect()
+}
+
 /// Chains the edges flagged in `is_crease` into curves (see the module docs, step 4).
 /// `angles` are those of [`dihedral_angles`]; `corner_angle` in degrees.
 pub fn chain_crease_edges(
@@ -673,11 +722,17 @@ fn creases_above(
             }
         }
     }
+    let cones = if curves.is_empty() {
+        Vec::new()
+    } else {
+        cone_points(mesh, &edges)
+    };
     Creases {
         threshold: Some(t.to_degrees()),
         edges,
         curves,
         dropped,
+        cones,
     }
 }
 

@@ -16,6 +16,8 @@
 //!   crease ([`crate::lines::crease::widest_side`]), and one of them must be off the creases.
 //!   In the fans of a CAD export, which have no vertex inside a face, crest lines through a
 //!   face interpolate the one-sided estimates of its boundary and say nothing about the face;
+//! - crest lines are cut within three rings (three times the mean length of its edges) of a
+//!   cone point ([`crate::lines::crease::cone_points`]): the fits there straddle the tip;
 //! - what is left of a cut crest line must still be [`MergeOptions::min_length`] long;
 //! - crest lines away from creases (fillets, blends, freeform parts) are kept as they are.
 //!
@@ -168,24 +170,44 @@ pub fn merge_creases(
         .filter(|(_, on)| **on)
         .map(|(v, _)| (v as u32, widest_side(mesh, v as u32, &creases.edges)))
         .collect();
-    let creases = creases.lines(mesh);
+    let crease_lines = creases.lines(mesh);
+    let cone_radii: Vec<f64> = creases
+        .cones
+        .iter()
+        .map(|&c| {
+            let edges = mesh.topology().vertex_edges(c);
+            let total: f64 = edges
+                .iter()
+                .map(|&e| {
+                    let [a, b] = mesh.topology().edge(e);
+                    (mesh.position(b) - mesh.position(a)).norm()
+                })
+                .sum();
+            3.0 * total / edges.len().max(1) as f64
+        })
+        .collect();
+    let cone_positions: Vec<Vec3> = creases.cones.iter().map(|&c| mesh.position(c)).collect();
+    let largest = cone_radii.iter().copied().fold(0.0, f64::max);
     let supported = Support {
         mesh,
         on_crease: &on_crease,
         sides: &sides,
+        cones: PointGrid::new(&cone_positions, largest),
+        cone_radii: &cone_radii,
+        largest,
     };
     let diagonal = mesh.bounding_box().diagonal();
     let tolerance = options.tolerance * diagonal;
     // At most 5,000 samples per diagonal of crease, whatever the tolerance.
     let spacing = (tolerance / 2.0).max(diagonal * 2e-4).max(f64::MIN_POSITIVE);
-    let samples = CreaseSamples::new(mesh, &creases, spacing);
+    let samples = CreaseSamples::new(mesh, &crease_lines, spacing);
     let join = options.join_distance * diagonal;
     let min_length = options.min_length * diagonal;
-    let mut lines = Vec::with_capacity(crest.lines.len() + creases.lines.len());
+    let mut lines = Vec::with_capacity(crest.lines.len() + crease_lines.lines.len());
     for line in crest.lines {
         cut_line(line, &samples, &supported, tolerance, join, min_length, &mut lines);
     }
-    lines.extend(creases.lines);
+    lines.extend(crease_lines.lines);
     Ok(FeatureLines { lines })
 }
 
@@ -206,6 +228,7 @@ fn cut_line(
         .map(|k| {
             (has_locations && !support.is_supported(line.locations[k]))
                 || samples.nearest_within(line.points[k], tolerance).is_some()
+                || support.near_cone(line.points[k])
         })
         .collect();
     if n == 0 {
@@ -293,9 +316,25 @@ struct Support<'a> {
     on_crease: &'a [bool],
     /// The faces each crease vertex's fields describe.
     sides: &'a std::collections::HashMap<u32, Vec<u32>>,
+    /// Cone points, the radius around each where crest lines are cut, the largest radius.
+    cones: PointGrid,
+    cone_radii: &'a [f64],
+    largest: f64,
 }
 
 impl Support<'_> {
+    fn near_cone(&self, p: Vec3) -> bool {
+        let mut near = false;
+        if self.cone_radii.is_empty() {
+            return false;
+        }
+        self.cones.for_each_within(p, self.largest, |c, d2| {
+            let r = self.cone_radii[c as usize];
+            near |= d2 <= r * r;
+        });
+        near
+    }
+
     fn is_supported(&self, location: SurfacePoint) -> bool {
         let topo = self.mesh.topology();
         let off = |v: u32| !self.on_crease.get(v as usize).copied().unwrap_or(false);
@@ -429,6 +468,7 @@ mod tests {
                 turning: 0.5,
             }],
             dropped: 0,
+            cones: Vec::new(),
         }
     }
 
