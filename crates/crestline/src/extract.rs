@@ -64,13 +64,13 @@
 use std::time::{Duration, Instant};
 
 use crate::curvature::{self, Curvature, CurvatureOptions, Estimator};
-use crate::lines::crease::{CreaseOptions, find_creases};
-use crate::lines::merge::{MergeOptions, merge_creases};
 use crate::error::Result;
+use crate::lines::crease::{CreaseOptions, find_creases};
 use crate::lines::fair::{Fairing, fair_lines};
 use crate::lines::filter::{LineFilter, StrengthMeasure, filter_lines};
 use crate::lines::gap::GapJumping;
 use crate::lines::link::{LinkOptions, link_feature_points};
+use crate::lines::merge::{MergeOptions, merge_creases};
 use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
 };

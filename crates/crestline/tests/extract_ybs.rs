@@ -159,6 +159,8 @@ fn ridge_fields(mesh: &TriMesh, field: impl Fn(Vec3) -> Option<(Vec3, f64)>) -> 
         e_min: vec![0.0; n],
         normals: vec![Vec3::z(); n],
         fallback_vertices: 0,
+        extremality_noise: 0.0,
+        simulated_noise: Default::default(),
     }
 }
 

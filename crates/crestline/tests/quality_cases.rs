@@ -35,7 +35,7 @@ fn load(case: &str) -> TriMesh {
     let path = cases_dir().join(format!("{case}.obj"));
     let mesh = crestline::io::read_mesh(&path, None)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    crestline::mesh::orient_outward(&mesh).0
+    crestline::mesh::orient_outward(mesh).unwrap().0
 }
 
 /// The exact crest lines of a surface as segments, by kind (`o ridge` / `o valley` groups).
@@ -80,7 +80,10 @@ fn sample(segments: impl Iterator<Item = [Vec3; 2]>, step: f64) -> Vec<(Vec3, f6
         let length = (b - a).norm();
         let n = (length / step).ceil().max(1.0) as usize;
         for i in 0..n {
-            out.push((a + (b - a) * ((i as f64 + 0.5) / n as f64), length / n as f64));
+            out.push((
+                a + (b - a) * ((i as f64 + 0.5) / n as f64),
+                length / n as f64,
+            ));
         }
     }
     out
@@ -119,10 +122,7 @@ fn score(mesh: &TriMesh, lines: &FeatureLines, surface: &str) -> (f64, f64, f64)
     let (mut p_near, mut p_total, mut r_near, mut r_total) = (0.0, 0.0, 0.0, 0.0);
     for kind in [LineKind::Ridge, LineKind::Valley] {
         let detected = sample(line_segments(lines, kind).into_iter(), tau / 4.0);
-        let reference = sample(
-            exact.iter().filter(|s| s.0 == kind).map(|s| s.1),
-            tau / 4.0,
-        );
+        let reference = sample(exact.iter().filter(|s| s.0 == kind).map(|s| s.1), tau / 4.0);
         let (n, t) = covered(&detected, &reference, tau);
         (p_near, p_total) = (p_near + n, p_total + t);
         let (n, t) = covered(&reference, &detected, tau);

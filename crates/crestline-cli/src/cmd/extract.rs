@@ -5,8 +5,8 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
-use crestline::extract::{ExtractOptions, Extraction, Method, Stage, extract_with_progress};
 use crestline::curvature::Estimator;
+use crestline::extract::{ExtractOptions, Extraction, Method, Stage, extract_with_progress};
 use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines};
 use crestline::lines::crease::CreaseAngle;
@@ -297,7 +297,10 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
         };
     }
     if let Some(k) = args.rings {
-        o.curvature = o.curvature.with_rings(k).with_estimator(Estimator::CubicFit);
+        o.curvature = o
+            .curvature
+            .with_rings(k)
+            .with_estimator(Estimator::CubicFit);
     }
     if let Some(e) = args.estimator {
         o.curvature.estimator = e.into();

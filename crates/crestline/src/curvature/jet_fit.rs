@@ -154,7 +154,10 @@ pub fn jet_fit(mesh: &TriMesh, options: &JetFitOptions) -> Result<Curvature> {
 ///
 /// # Errors
 /// As [`jet_fit()`].
-pub fn jet_fit_report(mesh: &TriMesh, options: &JetFitOptions) -> Result<(Curvature, JetFitReport)> {
+pub fn jet_fit_report(
+    mesh: &TriMesh,
+    options: &JetFitOptions,
+) -> Result<(Curvature, JetFitReport)> {
     jet_fit_split(mesh, options, None)
 }
 
@@ -350,7 +353,11 @@ impl Context<'_> {
             .into_par_iter()
             .step_by(stride)
             .map(|v| {
-                SCRATCH.with(|s| probe.fit_vertex(v, radius * self.spacing, &mut s.borrow_mut()).1)
+                SCRATCH.with(|s| {
+                    probe
+                        .fit_vertex(v, radius * self.spacing, &mut s.borrow_mut())
+                        .1
+                })
             })
             .filter(|r| r.is_finite())
             .collect();
@@ -378,7 +385,9 @@ impl Context<'_> {
     fn fit_vertex(&self, v: u32, radius: f64, s: &mut Scratch) -> (VertexEstimate, f64, [f64; 2]) {
         let fallback = |normal| (VertexEstimate::fallback(normal), f64::NAN, [0.0; 2]);
         let topo = self.mesh.topology();
-        if topo.vertex_faces(v).is_empty() || !(radius > 0.0) {
+        if topo.vertex_faces(v).is_empty()
+            || radius.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+        {
             return fallback(Vec3::zeros());
         }
         let mut r = radius;
@@ -485,9 +494,7 @@ impl Context<'_> {
             let [a, b, c] = self.mesh.triangle(f as usize);
             s.side_normal += (b - a).cross(&(c - a)) / 6.0;
             for q in self.mesh.faces()[f as usize] {
-                if s.marks[q as usize] != stamp
-                    && (self.mesh.position(q) - p).norm_squared() < r2
-                {
+                if s.marks[q as usize] != stamp && (self.mesh.position(q) - p).norm_squared() < r2 {
                     s.marks[q as usize] = stamp;
                     s.disc.push(q);
                 }
@@ -550,7 +557,7 @@ fn monomials<const N: usize>(x: f64, y: f64) -> SVector<f64, N> {
             if k == N {
                 break 'outer;
             }
-            m[k] = x.powi((d - j) as i32) * y.powi(j as i32);
+            m[k] = x.powi(d - j) * y.powi(j);
             k += 1;
         }
     }
@@ -580,7 +587,7 @@ fn solve<const N: usize>(samples: &[Sample], degree: usize) -> Option<Fit> {
         atxi.axpy(s.w * s.xi, &m, 1.0);
         weight += s.w;
     }
-    if !(weight > 0.0) {
+    if weight.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     // A whisper of ridge regularisation keeps nearly collinear discs solvable.

@@ -217,7 +217,11 @@ impl Creases {
                     LineKind::Valley
                 },
                 points: c.vertices.iter().map(|&v| mesh.position(v)).collect(),
-                locations: c.vertices.iter().map(|&v| SurfacePoint::Vertex(v)).collect(),
+                locations: c
+                    .vertices
+                    .iter()
+                    .map(|&v| SurfacePoint::Vertex(v))
+                    .collect(),
                 closed: c.closed,
                 length: c.length,
                 curvature_integral: if diagonal > 0.0 {
@@ -395,10 +399,7 @@ pub fn is_facet_edge(mesh: &TriMesh, angles: &[f64], e: u32, diagonal: f64) -> b
     };
     let parallel = 30f64.to_radians().cos();
     topo.edge_faces(e).iter().any(|&f| {
-        let Some(&c) = topo.faces()[f as usize]
-            .iter()
-            .find(|&&v| v != a && v != b)
-        else {
+        let Some(&c) = topo.faces()[f as usize].iter().find(|&&v| v != a && v != b) else {
             return false;
         };
         let to_c = mesh.position(c) - mesh.position(a);
@@ -473,7 +474,8 @@ pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
     for (i, &f) in faces.iter().enumerate() {
         total[root(&mut side, i)] += corner_angle(f);
     }
-    let Some(best) = (0..faces.len()).max_by(|&a, &b| total[a].total_cmp(&total[b]).then(b.cmp(&a)))
+    let Some(best) =
+        (0..faces.len()).max_by(|&a, &b| total[a].total_cmp(&total[b]).then(b.cmp(&a)))
     else {
         return Vec::new();
     };
@@ -601,9 +603,7 @@ fn build_curve(mesh: &TriMesh, angles: &[f64], vertices: Vec<u32>, closed: bool)
     for k in 0..segments {
         let (a, b) = (vertices[k], vertices[(k + 1) % n]);
         let l = (mesh.position(b) - mesh.position(a)).norm();
-        let theta = topo
-            .edge_between(a, b)
-            .map_or(0.0, |e| angles[e as usize]);
+        let theta = topo.edge_between(a, b).map_or(0.0, |e| angles[e as usize]);
         if theta.is_finite() {
             length += l;
             turning += theta.abs() * l;
@@ -816,7 +816,12 @@ mod tests {
     fn boundary_edges_are_not_creases() {
         // Two triangles folded at 90 degrees: the fold is the only manifold edge.
         let mesh = TriMesh::from_arrays(
-            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ],
             vec![[0, 1, 2], [0, 3, 1]],
         )
         .unwrap();

@@ -97,9 +97,12 @@ impl CreaseSamples {
             let segments = if line.closed { n } else { n.saturating_sub(1) };
             if n == 1 {
                 points.push(line.points[0]);
-                locations.push(line.locations.first().copied().unwrap_or(SurfacePoint::Face {
-                    face: 0,
-                }));
+                locations.push(
+                    line.locations
+                        .first()
+                        .copied()
+                        .unwrap_or(SurfacePoint::Face { face: 0 }),
+                );
             }
             for k in 0..segments {
                 let (p, q) = (line.points[k], line.points[(k + 1) % n]);
@@ -157,7 +160,11 @@ pub fn merge_creases(
     if creases.curves.is_empty() {
         return Ok(crest);
     }
-    if creases.curves.iter().flat_map(|c| &c.vertices).any(|&v| v as usize >= mesh.num_vertices())
+    if creases
+        .curves
+        .iter()
+        .flat_map(|c| &c.vertices)
+        .any(|&v| v as usize >= mesh.num_vertices())
     {
         return Err(Error::InvalidInput(
             "crease curves refer to vertices the mesh does not have".into(),
@@ -199,13 +206,17 @@ pub fn merge_creases(
     let diagonal = mesh.bounding_box().diagonal();
     let tolerance = options.tolerance * diagonal;
     // At most 5,000 samples per diagonal of crease, whatever the tolerance.
-    let spacing = (tolerance / 2.0).max(diagonal * 2e-4).max(f64::MIN_POSITIVE);
+    let spacing = (tolerance / 2.0)
+        .max(diagonal * 2e-4)
+        .max(f64::MIN_POSITIVE);
     let samples = CreaseSamples::new(mesh, &crease_lines, spacing);
     let join = options.join_distance * diagonal;
     let min_length = options.min_length * diagonal;
     let mut lines = Vec::with_capacity(crest.lines.len() + crease_lines.lines.len());
     for line in crest.lines {
-        cut_line(line, &samples, &supported, tolerance, join, min_length, &mut lines);
+        cut_line(
+            line, &samples, &supported, tolerance, join, min_length, &mut lines,
+        );
     }
     lines.extend(crease_lines.lines);
     Ok(FeatureLines { lines })
@@ -478,7 +489,13 @@ mod tests {
         let crease = middle_crease(&mesh);
         // Runs along the crease 0.001 away, then turns off to the right.
         let along = line(
-            &[[0.501, 0.1], [0.501, 0.3], [0.501, 0.5], [0.6, 0.5], [0.8, 0.5]],
+            &[
+                [0.501, 0.1],
+                [0.501, 0.3],
+                [0.501, 0.5],
+                [0.6, 0.5],
+                [0.8, 0.5],
+            ],
             false,
         );
         // Stops 0.01 short of the crease.

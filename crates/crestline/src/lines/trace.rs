@@ -55,8 +55,6 @@ pub struct Family<'a> {
     pub e_noise: f64,
 }
 
-
-
 impl<'a> Family<'a> {
     /// The max family (ridges) or the min family (valleys) of `c`.
     pub fn of(c: &'a Curvature, kind: LineKind) -> Self {

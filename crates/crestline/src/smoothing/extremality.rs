@@ -206,8 +206,6 @@ fn run_steps(
     Ok(())
 }
 
-
-
 /// The smoothing operator of both families, for repeated steps.
 #[derive(Debug)]
 pub struct ExtremalitySmoother<'m> {
@@ -215,7 +213,6 @@ pub struct ExtremalitySmoother<'m> {
 }
 
 impl<'m> ExtremalitySmoother<'m> {
-
     /// Builds the operator once (and factorises it, for [`LinearSolver::Cholesky`]).
     ///
     /// # Errors
