@@ -852,3 +852,38 @@ fn sharp_edges_are_where_the_builders_say() {
     assert_eq!(solid.corners.len(), 8);
     assert_eq!(solid.mesh.num_vertices(), 8);
 }
+
+#[test]
+fn simplify_keeps_the_creases() {
+    let solid = chamfered_block(Tessellation::Fine);
+    let lines = extract(&solid.mesh, &ExtractOptions::default())
+        .unwrap()
+        .lines;
+    let out = crestline::simplify::simplify(
+        &solid.mesh,
+        &lines,
+        &crestline::simplify::SimplifyOptions::DEFAULT,
+    )
+    .unwrap();
+    assert!(
+        out.faces_after * 4 < solid.mesh.num_faces(),
+        "{}",
+        out.faces_after
+    );
+    let faces = out.mesh.num_faces();
+    let simplified = Solid {
+        name: "simplified chamfered block".into(),
+        mesh: out.mesh,
+        planar: vec![false; faces],
+        sharp: solid.sharp,
+        corners: solid.corners,
+    };
+    let result = extract(&simplified.mesh, &ExtractOptions::default()).unwrap();
+    let s = score(&simplified, &result.lines);
+    assert!(
+        s.f1() >= 0.98 && s.corners_missed == 0,
+        "F1 {:.3}, corners missed {}",
+        s.f1(),
+        s.corners_missed
+    );
+}
