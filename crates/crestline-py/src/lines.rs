@@ -78,9 +78,9 @@ impl Lines {
     fn __repr__(&self) -> String {
         let mut counts: Vec<(&str, usize)> = Vec::new();
         for line in &self.lines.lines {
-            match counts.iter_mut().find(|(k, _)| *k == line.kind.name()) {
+            match counts.iter_mut().find(|(k, _)| *k == line.kind_name()) {
                 Some((_, n)) => *n += 1,
-                None => counts.push((line.kind.name(), 1)),
+                None => counts.push((line.kind_name(), 1)),
             }
         }
         let counts: Vec<String> = counts.iter().map(|(k, n)| format!("{n} {k}")).collect();
@@ -120,7 +120,7 @@ impl Lines {
     /// The kind of each line ("ridge", "valley", ...), as a list of strings.
     #[getter]
     fn kinds(&self) -> Vec<&'static str> {
-        self.lines.lines.iter().map(|l| l.kind.name()).collect()
+        self.lines.lines.iter().map(|l| l.kind_name()).collect()
     }
 
     /// The length of each line in model units (float64 array).
@@ -220,7 +220,7 @@ pub struct Line {
 impl Line {
     fn of(py: Python<'_>, line: &FeatureLine) -> PyResult<Line> {
         Ok(Line {
-            kind: line.kind.name(),
+            kind: line.kind_name(),
             points: vectors_array(py, &line.points)?.unbind(),
             closed: line.closed,
             length: line.length,

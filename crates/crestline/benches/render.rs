@@ -33,6 +33,7 @@ fn latitude_lines() -> FeatureLines {
                 length: 0.0,
                 curvature_integral: 0.0,
                 strength: 0.0,
+                crease: false,
             }
         })
         .collect();

@@ -401,6 +401,7 @@ mod tests {
                 length,
                 curvature_integral: 0.0,
                 strength: 0.0,
+                crease: false,
             }],
         }
     }

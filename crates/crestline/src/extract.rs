@@ -11,6 +11,13 @@
 //! 6. polylines and threshold filtering ([`crate::lines::assemble`], [`crate::lines::filter`]),
 //! 7. optional spatial fairing ([`crate::lines::fair`]).
 //!
+//! **Creases** (every method, [`ExtractOptions::creases`]): before step 1 the sharp creases of
+//! the mesh are found ([`crate::lines::crease`]; none on meshes whose dihedral angles have no
+//! gap, such as scans and smooth meshes). The curvature fits (jet fit) and the extremality
+//! smoothing do not reach across them, and at the end they are merged with the crest lines
+//! ([`crate::lines::merge`]): crest lines along a crease give way to it, crest lines ending
+//! near one are joined to it.
+//!
 //! **YBS** (Yoshizawa, Belyaev, Seidel 2005): the enhanced cubic fit for curvature and
 //! extremalities, edge-based tracing with gap jumping ([`crate::lines::trace_crest_lines`]),
 //! filtering by the strength T.
@@ -72,16 +79,20 @@ use std::time::{Duration, Instant};
 
 use crate::curvature::{self, Curvature, CurvatureOptions, Estimator};
 use crate::error::Result;
+use crate::lines::crease::{CreaseOptions, find_creases};
 use crate::lines::fair::{Fairing, fair_lines};
 use crate::lines::filter::{LineFilter, StrengthMeasure, filter_lines};
 use crate::lines::gap::GapJumping;
 use crate::lines::link::{LinkOptions, link_feature_points};
+use crate::lines::merge::{MergeOptions, merge_creases};
 use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
 };
 use crate::mesh::TriMesh;
 use crate::saliency::{SaliencyOptions, mesh_saliency};
-use crate::smoothing::extremality::{ExtremalitySmoothing, smooth_extremalities};
+use crate::smoothing::extremality::{
+    ExtremalitySmoothing, smooth_extremalities, smooth_extremalities_split,
+};
 use crate::smoothing::surface::{SurfaceSmoothing, smooth_surface};
 use crate::threshold::{KneeSearch, seek_threshold};
 
@@ -149,6 +160,14 @@ pub struct ExtractOptions {
     /// The knee search. Default: [`KneeSearch::default`] (the paper's) for Saliency,
     /// [`KneeSearch::for_strengths`] for HPW and YBS.
     pub knee: KneeSearch,
+    /// Sharp creases ([`crate::lines::crease`]), found before anything else on the mesh as
+    /// given: the curvature fits and the extremality smoothing do not reach across them, and
+    /// they join the lines at the end. Default: [`CreaseOptions::default`] (threshold from the
+    /// gap in the dihedral angles; none on meshes without such a gap) for every method.
+    pub creases: CreaseOptions,
+    /// How crease curves and crest lines are merged ([`crate::lines::merge`]). Default:
+    /// [`MergeOptions::default`].
+    pub merge: MergeOptions,
 }
 
 /// Default threshold of the HPW pipeline on T (dimensionless). Measured: spurious lines on a
@@ -184,6 +203,8 @@ impl ExtractOptions {
                 link: LinkOptions::default(),
                 auto_threshold: false,
                 knee: KneeSearch::for_strengths(),
+                creases: CreaseOptions::DEFAULT,
+                merge: MergeOptions::DEFAULT,
             },
             Method::Ybs => ExtractOptions {
                 method,
@@ -205,6 +226,8 @@ impl ExtractOptions {
                 link: LinkOptions::default(),
                 auto_threshold: true,
                 knee: KneeSearch::for_strengths(),
+                creases: CreaseOptions::DEFAULT,
+                merge: MergeOptions::DEFAULT,
             },
             Method::Saliency => ExtractOptions {
                 auto_threshold: true,
@@ -240,6 +263,8 @@ impl Default for ExtractOptions {
 /// The named stages, for progress reports and timings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Stage {
+    /// Sharp creases (before step 1).
+    Creases,
     /// Step 1.
     PreSmoothing,
     /// Step 2 (curvature and extremalities).
@@ -255,12 +280,15 @@ pub enum Stage {
     Filtering,
     /// Step 7.
     Fairing,
+    /// Crease curves merged with the crest lines.
+    Merging,
 }
 
 impl Stage {
     /// A short human-readable name.
     pub fn name(self) -> &'static str {
         match self {
+            Stage::Creases => "creases",
             Stage::PreSmoothing => "pre-smoothing",
             Stage::Curvature => "curvature",
             Stage::ExtremalitySmoothing => "extremality smoothing",
@@ -268,6 +296,7 @@ impl Stage {
             Stage::GapJumping => "gap jumping",
             Stage::Filtering => "filtering",
             Stage::Fairing => "fairing",
+            Stage::Merging => "merging",
         }
     }
 }
@@ -294,6 +323,13 @@ pub struct ExtractStats {
     pub valleys: usize,
     /// Total length of the lines kept.
     pub total_length: f64,
+    /// Crease curves among the lines kept.
+    pub creases: usize,
+    /// Total length of the crease curves.
+    pub crease_length: f64,
+    /// The dihedral angle threshold of the creases (degrees); `None` when creases are off or
+    /// the mesh has no gap in its dihedral angles.
+    pub crease_threshold: Option<f64>,
     /// The strength threshold applied (for Saliency: the saliency threshold; infinite when
     /// the automatic search found no knee, so that no vertex is a feature point).
     pub threshold: f64,
@@ -344,6 +380,12 @@ pub fn extract_with_progress(
         times: Vec::new(),
     };
 
+    let t = clock.begin(Stage::Creases);
+    let creases = find_creases(mesh, &options.creases)?;
+    stats.crease_threshold = creases.threshold;
+    clock.end(Stage::Creases, t);
+    let split = (!creases.is_empty()).then_some(&creases.edges[..]);
+
     let smoothed;
     let surface = if options.pre_smoothing.steps > 0 {
         let t = clock.begin(Stage::PreSmoothing);
@@ -355,7 +397,7 @@ pub fn extract_with_progress(
     };
 
     let t = clock.begin(Stage::Curvature);
-    let mut curvature = curvature::estimate(surface, &options.curvature)?;
+    let mut curvature = curvature::estimate_split(surface, &options.curvature, split)?;
     stats.fallback_vertices = curvature.fallback_vertices;
     stats.jet_fit = curvature.jet_fit;
     clock.end(Stage::Curvature, t);
@@ -364,7 +406,12 @@ pub fn extract_with_progress(
     let skip = options.smooth_only_noisy && noise_measured && curvature.extremality_noise == 0.0;
     if options.smoothing.steps > 0 && !skip {
         let t = clock.begin(Stage::ExtremalitySmoothing);
-        smooth_extremalities(surface, &mut curvature, &options.smoothing)?;
+        match split {
+            Some(creases) => {
+                smooth_extremalities_split(surface, &mut curvature, &options.smoothing, creases)?
+            }
+            None => smooth_extremalities(surface, &mut curvature, &options.smoothing)?,
+        }
         clock.end(Stage::ExtremalitySmoothing, t);
     }
 
@@ -434,12 +481,19 @@ pub fn extract_with_progress(
         fair_lines(&mut lines, &options.fairing);
         clock.end(Stage::Fairing, t);
     }
+    if !creases.is_empty() {
+        let t = clock.begin(Stage::Merging);
+        lines = merge_creases(mesh, lines, &creases, &options.merge)?;
+        clock.end(Stage::Merging, t);
+    }
     stats.stage_times = clock.times;
 
     stats.lines = lines.lines.len();
     stats.ridges = lines.of_kind(LineKind::Ridge).count();
     stats.valleys = lines.of_kind(LineKind::Valley).count();
     stats.total_length = lines.total_length();
+    stats.creases = lines.creases(true).count();
+    stats.crease_length = lines.creases(true).map(|l| l.length).sum();
     Ok(Extraction {
         lines,
         curvature,

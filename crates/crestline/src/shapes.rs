@@ -356,6 +356,7 @@ pub fn tablet(radius: f64, length: f64, cap_radius: f64, n: usize) -> (TriMesh, 
                 length: TAU * radius,
                 curvature_integral: 0.0,
                 strength: 0.0,
+                crease: false,
             }
         })
         .collect();
@@ -475,6 +476,7 @@ pub fn pillow_box(half: f64, bulge: f64, n: usize) -> (TriMesh, FeatureLines) {
                 curvature_integral: 0.0,
                 strength: 0.0,
                 points,
+                crease: false,
             });
         }
     }

@@ -14,7 +14,17 @@
 //! budget far from them and keeps the mesh dense along them. `η = 0` is plain QEM.
 //!
 //! [`simplify`] runs the public steps in order: [`crate::distance::feature_distance`] →
-//! [`feature_weights`] → [`decimate`].
+//! [`feature_weights`] → [`crease_edges`] → [`decimate_constrained`].
+//!
+//! **Creases** (lines with [`crate::lines::FeatureLine::crease`] set, issue 20) are
+//! constraints, handled like boundaries: a vertex on a crease never moves; an edge from it to a
+//! vertex off the creases collapses onto it; an edge between two crease vertices collapses
+//! only along a crease, onto one of its ends; and corners (a crease vertex with one or three
+//! or more crease edges) are never removed. Every vertex of the result on a crease is a
+//! crease vertex of the input at exactly its place, so the sharp edges of a CAD part are kept
+//! however far the rest is simplified (a curved crease loses vertices, as a boundary does).
+//! Crease points are found on the mesh by their locations, or, for lines read from a file, by
+//! their positions (mesh vertices within 1e-9 of the diagonal).
 //!
 //! ## The decimation
 //! - **Quadrics.** Each triangle contributes `w · area · (plane quadric)` to its three
@@ -74,8 +84,8 @@ use rayon::prelude::*;
 
 use crate::distance::{DistanceOptions, FeatureDistance, feature_distance};
 use crate::error::{Error, Result};
-use crate::lines::FeatureLines;
-use crate::mesh::{TriMesh, Vec3, VertexKind};
+use crate::lines::{FeatureLines, SurfacePoint};
+use crate::mesh::{TriMesh, Vec3, VertexKind, mean_edge_length};
 
 /// How many triangles the simplified mesh should have.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -123,6 +133,9 @@ pub struct SimplifyOptions {
     /// How the feature distance is computed. Not used by [`decimate`].
     /// Default: [`DistanceOptions::DEFAULT`].
     pub distance: DistanceOptions,
+    /// Keep the vertices of crease lines where they are (see the module docs). Not used by
+    /// [`decimate`]. Default: `true`.
+    pub keep_creases: bool,
 }
 
 impl SimplifyOptions {
@@ -134,6 +147,7 @@ impl SimplifyOptions {
         boundary_weight: 10.0,
         max_normal_rotation: 60.0,
         distance: DistanceOptions::DEFAULT,
+        keep_creases: true,
     };
 
     /// Sets [`SimplifyOptions::target`].
@@ -194,12 +208,15 @@ pub struct Rejections {
     pub flip: usize,
     /// A moved triangle would lose (almost) all its area.
     pub degenerate: usize,
+    /// The collapse would move or remove a crease vertex the constraints keep (see the module
+    /// docs on creases).
+    pub fixed: usize,
 }
 
 impl Rejections {
     /// The sum over all reasons.
     pub fn total(&self) -> usize {
-        self.non_manifold + self.boundary + self.link + self.flip + self.degenerate
+        self.non_manifold + self.boundary + self.link + self.flip + self.degenerate + self.fixed
     }
 }
 
@@ -256,7 +273,54 @@ pub fn simplify(
         let distance = feature_distance(mesh, lines, &options.distance)?;
         feature_weights(&distance, options.eta, options.eps)
     };
-    decimate(mesh, &weights, options)
+    let creases = if options.keep_creases {
+        crease_edges(mesh, lines)
+    } else {
+        Vec::new()
+    };
+    decimate_constrained(mesh, &weights, options, &creases)
+}
+
+/// The mesh edges of the crease lines of `lines` (points matched to vertices by their
+/// locations, or else by position within 1e-9 of the diagonal; consecutive points on two
+/// vertices joined by an edge make a crease edge). Empty without creases.
+pub fn crease_edges(mesh: &TriMesh, lines: &FeatureLines) -> Vec<[u32; 2]> {
+    let n = mesh.num_vertices();
+    let mut edges = Vec::new();
+    let creases: Vec<_> = lines.lines.iter().filter(|l| l.crease).collect();
+    if creases.is_empty() {
+        return edges;
+    }
+    let tolerance = 1e-9 * mesh.bounding_box().diagonal();
+    let mut grid = None;
+    for line in creases {
+        let vertices: Vec<Option<u32>> = line
+            .points
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                if let Some(SurfacePoint::Vertex(v)) = line.locations.get(k)
+                    && (*v as usize) < n
+                {
+                    return Some(*v);
+                }
+                let grid = grid.get_or_insert_with(|| {
+                    crate::spatial::PointGrid::new(mesh.positions(), mean_edge_length(mesh))
+                });
+                grid.nearest_within(*p, tolerance)
+            })
+            .collect();
+        let m = vertices.len();
+        let segments = if line.closed { m } else { m.saturating_sub(1) };
+        for k in 0..segments {
+            if let (Some(a), Some(b)) = (vertices[k], vertices[(k + 1) % m])
+                && mesh.topology().edge_between(a, b).is_some()
+            {
+                edges.push([a, b]);
+            }
+        }
+    }
+    edges
 }
 
 /// Per-triangle weights `w = 1 / F(d)` with `F(d) = (d / max(d) + eps)^eta` (YBS eq. 7).
@@ -295,10 +359,32 @@ pub fn decimate(
     face_weights: &[f64],
     options: &SimplifyOptions,
 ) -> Result<Simplified> {
+    decimate_constrained(mesh, face_weights, options, &[])
+}
+
+/// [`decimate`] with the mesh edges `creases` as constraints (see the module docs).
+///
+/// # Errors
+/// As [`decimate`]; [`Error::InvalidInput`] when a crease edge names a vertex the mesh does
+/// not have.
+pub fn decimate_constrained(
+    mesh: &TriMesh,
+    face_weights: &[f64],
+    options: &SimplifyOptions,
+    creases: &[[u32; 2]],
+) -> Result<Simplified> {
     validate(mesh, face_weights, options)?;
+    let n = mesh.num_vertices();
+    if let Some(e) = creases.iter().find(|e| e.iter().any(|&v| v as usize >= n)) {
+        return Err(Error::InvalidInput(format!(
+            "crease edge {} {} names a vertex beyond the {n} there are",
+            e[0], e[1]
+        )));
+    }
     let faces_before = mesh.num_faces();
     let target_faces = options.target.faces_for(faces_before);
     let mut decimator = Decimator::new(mesh, face_weights, options);
+    decimator.constrain(creases);
     let mut passes = 0;
     while decimator.live_faces > target_faces {
         passes += 1;
@@ -443,6 +529,7 @@ enum Refusal {
     Link,
     Flip,
     Degenerate,
+    Fixed,
 }
 
 /// A planned collapse: `remove` merges into `keep`, which moves to `target`; `source` is the
@@ -591,6 +678,10 @@ struct Decimator<'m> {
     quadrics: Vec<Quadric>,
     boundary: Vec<bool>,
     locked: Vec<bool>,
+    /// Crease corners, which no collapse may touch; empty without creases.
+    fixed: Vec<bool>,
+    /// Per vertex: its neighbours along creases (empty without creases).
+    crease_neighbors: Vec<Vec<u32>>,
     /// Version stamp per vertex, bumped by every collapse that keeps the vertex;
     /// [`REMOVED`] once it is merged away (one array, so a liveness check reads two words).
     version: Vec<u32>,
@@ -662,6 +753,8 @@ impl<'m> Decimator<'m> {
                 .iter()
                 .map(|&k| k == VertexKind::NonManifold)
                 .collect(),
+            fixed: Vec::new(),
+            crease_neighbors: Vec::new(),
             // Unreferenced vertices take part in nothing.
             version: kinds
                 .iter()
@@ -679,6 +772,26 @@ impl<'m> Decimator<'m> {
             ring_u: Vec::new(),
             ring_v: Vec::new(),
         }
+    }
+
+    /// Sets the crease constraints: neighbours along `creases`, corners fixed.
+    fn constrain(&mut self, creases: &[[u32; 2]]) {
+        if creases.is_empty() {
+            return;
+        }
+        let n = self.positions.len();
+        let mut neighbors = vec![Vec::new(); n];
+        for &[a, b] in creases {
+            if a != b && !neighbors[a as usize].contains(&b) {
+                neighbors[a as usize].push(b);
+                neighbors[b as usize].push(a);
+            }
+        }
+        self.fixed = neighbors
+            .iter()
+            .map(|c| !c.is_empty() && c.len() != 2)
+            .collect();
+        self.crease_neighbors = neighbors;
     }
 
     /// Queues every current edge, then collapses the cheapest valid candidates until the
@@ -776,6 +889,7 @@ impl<'m> Decimator<'m> {
             Refusal::Link => r.link += 1,
             Refusal::Flip => r.flip += 1,
             Refusal::Degenerate => r.degenerate += 1,
+            Refusal::Fixed => r.fixed += 1,
         }
     }
 
@@ -808,6 +922,11 @@ impl<'m> Decimator<'m> {
         if self.locked[u as usize] || self.locked[v as usize] {
             return Err(Refusal::NonManifold);
         }
+        let on_crease = |w: u32| {
+            self.crease_neighbors
+                .get(w as usize)
+                .is_some_and(|c| !c.is_empty())
+        };
         let q = self.quadrics[u as usize].sum(&self.quadrics[v as usize]);
         let (pu, pv) = (self.positions[u as usize], self.positions[v as usize]);
         let at = |keep: u32, remove: u32, target: Vec3, source: u32| Plan {
@@ -820,6 +939,25 @@ impl<'m> Decimator<'m> {
         let at_u = || at(u, v, pu, self.origin[u as usize]);
         let at_v = || at(v, u, pv, self.origin[v as usize]);
         let cheaper = |a: Plan, b: Plan| if b.cost < a.cost { b } else { a };
+        if on_crease(u) || on_crease(v) {
+            if self.boundary[u as usize] || self.boundary[v as usize] {
+                return Err(Refusal::Fixed);
+            }
+            return match (on_crease(u), on_crease(v)) {
+                (true, true) if self.crease_neighbors[u as usize].contains(&v) => {
+                    // Corners are never removed.
+                    match (self.fixed[v as usize], self.fixed[u as usize]) {
+                        (false, false) => Ok(cheaper(at_u(), at_v())),
+                        (false, true) => Ok(at_u()),
+                        (true, false) => Ok(at_v()),
+                        (true, true) => Err(Refusal::Fixed),
+                    }
+                }
+                (true, true) => Err(Refusal::Fixed),
+                (true, false) => Ok(at_u()),
+                _ => Ok(at_v()),
+            };
+        }
         let plan = match (self.boundary[u as usize], self.boundary[v as usize]) {
             (true, true) => {
                 if self.edge_face_count(u, v) != 1 {
@@ -941,6 +1079,22 @@ impl<'m> Decimator<'m> {
         let qr = self.quadrics[r];
         self.quadrics[k].add(&qr);
         self.boundary[k] |= self.boundary[r];
+        if let Some(moved) = self.crease_neighbors.get_mut(r).map(std::mem::take) {
+            // Along a crease: r's other crease neighbours become k's.
+            let (keep, remove) = (plan.keep, plan.remove);
+            for w in moved {
+                if w == keep {
+                    continue;
+                }
+                for x in &mut self.crease_neighbors[w as usize] {
+                    if *x == remove {
+                        *x = keep;
+                    }
+                }
+                self.crease_neighbors[k].push(w);
+            }
+            self.crease_neighbors[k].retain(|&x| x != remove);
+        }
         self.version[r] = REMOVED;
         // Skipping the sentinel keeps a live vertex from ever looking removed.
         self.version[k] = (self.version[k] + 1) % REMOVED;

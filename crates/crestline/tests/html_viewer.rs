@@ -47,6 +47,7 @@ fn circle(kind: LineKind, radius: f64, z: f64) -> FeatureLine {
         length: 0.0,
         curvature_integral: 0.0,
         strength: 0.0,
+        crease: false,
     }
 }
 

@@ -39,6 +39,7 @@ fn line(kind: LineKind, points: &[[f64; 3]]) -> FeatureLine {
         length: 0.0,
         curvature_integral: 0.0,
         strength: 0.0,
+        crease: false,
     }
 }
 

@@ -71,6 +71,7 @@ fn open_surface_keeps_its_boundary() {
             length: std::f64::consts::TAU * std::f64::consts::PI,
             curvature_integral: 0.0,
             strength: 0.0,
+            crease: false,
         }],
     };
     let options = SimplifyOptions::default().with_target(Target::Faces(400));

@@ -9,6 +9,7 @@ use crestline::curvature::Estimator;
 use crestline::extract::{ExtractOptions, Extraction, Method, Stage, extract_with_progress};
 use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines};
+use crestline::lines::crease::CreaseAngle;
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 use crestline::smoothing::surface::SurfaceSmoothing;
 use crestline::{TriMesh, Vec3};
@@ -31,7 +32,8 @@ pub enum MethodArg {
 /// Output formats for lines.
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum LinesFormatArg {
-    /// OBJ with `o ridges` / `o valleys` groups of `l` records.
+    /// OBJ with `o ridges` / `o valleys` / `o crease-ridges` / `o crease-valleys` groups of
+    /// `l` records.
     Obj,
     /// PLY vertices and edges with a kind property.
     Ply,
@@ -78,6 +80,10 @@ pub struct Args {
     /// about this dihedral angle, in degrees (default 17; 0 gives HPW's plain smoothing).
     #[arg(long, value_name = "DEGREES")]
     pub crease_angle: Option<f64>,
+    /// Sharp creases: `auto` (default: edges above the gap in the histogram of dihedral
+    /// angles; none when there is no gap, as on scans), `off`, or a dihedral angle in degrees.
+    #[arg(long, value_name = "auto|off|DEGREES")]
+    pub creases: Option<String>,
     /// Weight of the neighbourhood in the principal directions of the shape operator (HPW;
     /// default 0.5; 0 gives the paper's operator, whose directions are arbitrary on flat faces).
     #[arg(long, value_name = "LAMBDA")]
@@ -194,6 +200,14 @@ pub fn run(args: Args) -> Result<()> {
             s.total_length,
             output.display()
         );
+        if s.creases > 0 {
+            eprintln!(
+                "{} sharp creases (dihedral angle > {:.1} degrees), length {:.4}",
+                s.creases,
+                s.crease_threshold.unwrap_or(f64::NAN),
+                s.crease_length
+            );
+        }
         if s.threshold_is_auto {
             eprintln!("automatic threshold: {:.6}", s.threshold);
         } else if options.auto_threshold {
@@ -244,6 +258,17 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
     }
     if let Some(degrees) = args.crease_angle {
         o.smoothing.crease_angle = degrees.to_radians();
+    }
+    match args.creases.as_deref() {
+        Some("auto") => o.creases.angle = CreaseAngle::Auto,
+        Some("off") => o.creases.angle = CreaseAngle::Off,
+        Some(x) => {
+            let degrees: f64 = x.parse().with_context(|| {
+                format!("--creases takes `auto`, `off` or an angle in degrees, got `{x}`")
+            })?;
+            o.creases.angle = CreaseAngle::Degrees(degrees);
+        }
+        None => {}
     }
     if let Some(support) = args.direction_support {
         o.curvature.shape_operator.direction_support = support;
@@ -443,6 +468,13 @@ fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
         s.threshold,
         if s.threshold_is_auto { " (auto)" } else { "" }
     );
+    out += &match s.crease_threshold {
+        Some(t) => format!(
+            "creases                {} (dihedral angle > {:.2} degrees, length {:.6})\n",
+            s.creases, t, s.crease_length
+        ),
+        None => "creases                none\n".to_string(),
+    };
     if s.gaps_jumped > 0 {
         out += &format!("gaps jumped            {}\n", s.gaps_jumped);
     }
@@ -485,6 +517,9 @@ fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::Value
         "ridges": s.ridges,
         "valleys": s.valleys,
         "total_length": s.total_length,
+        "creases": s.creases,
+        "crease_length": s.crease_length,
+        "crease_threshold_degrees": s.crease_threshold,
         "diagonal": mesh.bounding_box().diagonal(),
         "threshold": s.threshold,
         "threshold_auto": s.threshold_is_auto,

@@ -92,7 +92,9 @@ pub fn run(args: Args) -> Result<()> {
                 "link": r.link,
                 "flip": r.flip,
                 "degenerate": r.degenerate,
+                "fixed": r.fixed,
             },
+            "creases": lines.lines.iter().filter(|l| l.crease).count(),
         });
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
@@ -111,8 +113,8 @@ pub fn run(args: Args) -> Result<()> {
         );
         println!(
             "refused candidates: {} link condition, {} flip, {} degenerate, {} boundary, \
-             {} non-manifold",
-            r.link, r.flip, r.degenerate, r.boundary, r.non_manifold
+             {} non-manifold, {} on creases (kept as they are)",
+            r.link, r.flip, r.degenerate, r.boundary, r.non_manifold, r.fixed
         );
         println!("written to {}", args.output.display());
     }

@@ -16,7 +16,7 @@ class Line:
     """One feature line."""
 
     kind: str
-    """"ridge", "valley", or another kind the library defines."""
+    """"ridge", "valley", "crease-ridge" or "crease-valley" (sharp edges of the mesh)."""
     points: npt.NDArray[np.float64]
     """(k, 3) points in order; a closed line does not repeat its first point."""
     closed: bool
@@ -47,7 +47,7 @@ class Lines:
         """Where each line starts in ``points``, then the number of points: len(lines) + 1 int64."""
     @property
     def kinds(self) -> list[str]:
-        """The kind of each line ("ridge", "valley", ...)."""
+        """The kind of each line ("ridge", "valley", "crease-ridge", "crease-valley")."""
     @property
     def lengths(self) -> npt.NDArray[np.float64]:
         """The length of each line."""

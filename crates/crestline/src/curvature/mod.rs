@@ -26,7 +26,7 @@ pub mod jet_fit;
 pub mod shape_operator;
 
 pub use cubic_fit::{CubicFitOptions, cubic_fit};
-pub use jet_fit::{JetFitOptions, JetFitReport, jet_fit, jet_fit_report};
+pub use jet_fit::{JetFitOptions, JetFitReport, jet_fit, jet_fit_report, jet_fit_split};
 pub use shape_operator::{PrincipalSelection, ShapeOperatorOptions, shape_operator};
 
 use rayon::prelude::*;
@@ -170,6 +170,22 @@ impl Default for CurvatureOptions {
 /// never causes an error: vertices that cannot be estimated get a fallback value and are
 /// counted in [`Curvature::fallback_vertices`].
 pub fn estimate(mesh: &TriMesh, options: &CurvatureOptions) -> Result<Curvature> {
+    estimate_split(mesh, options, None)
+}
+
+/// [`estimate`] with the neighbourhoods split at `creases` (per edge of
+/// [`crate::mesh::Topology::edges`], true for a crease edge): the jet fit's discs do not
+/// reach across a crease ([`jet_fit_split`]). The papers' estimators read one star or ring
+/// and ignore `creases`.
+///
+/// # Errors
+/// As [`estimate`]; [`crate::Error::InvalidInput`] when `creases` does not have one entry per
+/// edge.
+pub fn estimate_split(
+    mesh: &TriMesh,
+    options: &CurvatureOptions,
+    creases: Option<&[bool]>,
+) -> Result<Curvature> {
     match options.estimator {
         Estimator::ShapeOperator => {
             let support = options.shape_operator.direction_support;
@@ -181,7 +197,7 @@ pub fn estimate(mesh: &TriMesh, options: &CurvatureOptions) -> Result<Curvature>
             Ok(shape_operator(mesh, &options.shape_operator))
         }
         Estimator::CubicFit => cubic_fit(mesh, &options.cubic_fit),
-        Estimator::JetFit => jet_fit(mesh, &options.jet_fit),
+        Estimator::JetFit => jet_fit_split(mesh, &options.jet_fit, creases).map(|(c, _)| c),
     }
 }
 

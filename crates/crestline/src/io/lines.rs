@@ -1,16 +1,20 @@
 //! Feature-line files: OBJ polylines (written and read back), JSON and PLY edges.
 //!
-//! - **OBJ** (reference as in `obj.rs`): an `o ridges` and an `o valleys` group, each a run
-//!   of `v` records followed by one `l` record per polyline; a closed line repeats its first
-//!   index at the end of its `l`. Any OBJ with `l` records reads back: the group (`o` or
-//!   `g`) named `valleys` (any case) gives valleys, every other group ridges. Lines read
-//!   back have no mesh locations and zero `curvature_integral` and `strength` (OBJ does not
-//!   store them); their `length` is recomputed.
-//! - **JSON**: `{"ridges": n, "valleys": m, "lines": [{"kind": "ridge" | "valley",
-//!   "closed", "points": [[x, y, z], ...], "length", "curvature_integral", "strength"}]}`.
+//! - **OBJ** (reference as in `obj.rs`): groups `o ridges`, `o valleys`, `o crease-ridges`
+//!   and `o crease-valleys` (crest lines, then sharp creases; empty groups are left out), each
+//!   a run of `v` records followed by one `l` record per polyline; a closed line repeats its
+//!   first index at the end of its `l`. Any OBJ with `l` records reads back: a group (`o` or
+//!   `g`) whose name contains `valley` (any case) gives valleys, every other group ridges; a
+//!   name containing `crease` gives creases. Lines read back have no mesh locations and zero
+//!   `curvature_integral` and `strength` (OBJ does not store them); their `length` is
+//!   recomputed.
+//! - **JSON**: `{"ridges": n, "valleys": m, "crease_ridges": p, "crease_valleys": q,
+//!   "lines": [{"kind": "ridge" | "valley" | "crease-ridge" | "crease-valley", "closed",
+//!   "points": [[x, y, z], ...], "length", "curvature_integral", "strength"}]}` (`ridges` and
+//!   `valleys` count crest lines).
 //! - **PLY** (reference as in `ply.rs`): every line point as a vertex (`double x, y, z`) and
-//!   an `edge` element with `int vertex1, vertex2` and `uchar kind` (0 ridge, 1 valley); a
-//!   closed line has an edge back to its first point.
+//!   an `edge` element with `int vertex1, vertex2` and `uchar kind` (0 ridge, 1 valley,
+//!   2 crease ridge, 3 crease valley); a closed line has an edge back to its first point.
 //!
 //! Limits: a line with fewer than two points cannot be written as an OBJ `l` and is left out
 //! of OBJ files (JSON and PLY keep it).
@@ -83,23 +87,55 @@ pub fn write_lines(
     .map_err(|e| Error::io(path, e))
 }
 
-/// Writes OBJ polylines: `o ridges`, then `o valleys`, each line as its `v` records and one
-/// `l` record.
+/// The class of a line in files (the PLY `kind`): 0 ridge, 1 valley, 2 crease ridge, 3 crease
+/// valley.
+fn class_of(line: &FeatureLine) -> usize {
+    match (line.kind, line.crease) {
+        (LineKind::Ridge, false) => 0,
+        (LineKind::Valley, false) => 1,
+        (LineKind::Ridge, true) => 2,
+        (LineKind::Valley, true) => 3,
+    }
+}
+
+/// JSON `kind` of each class.
+const KIND_NAMES: [&str; 4] = ["ridge", "valley", "crease-ridge", "crease-valley"];
+/// OBJ group of each class.
+const GROUP_NAMES: [&str; 4] = ["ridges", "valleys", "crease-ridges", "crease-valleys"];
+
+/// Lines per class.
+fn class_counts(lines: &FeatureLines) -> [usize; 4] {
+    let mut counts = [0; 4];
+    for l in &lines.lines {
+        counts[class_of(l)] += 1;
+    }
+    counts
+}
+
+/// Writes OBJ polylines: `o ridges`, `o valleys`, `o crease-ridges`, then `o crease-valleys`,
+/// each line as its `v` records and one `l` record.
 ///
 /// # Errors
 /// Whatever `out` returns.
 pub fn write_lines_obj<W: Write>(mut out: W, lines: &FeatureLines) -> std::io::Result<()> {
-    let count = |k: LineKind| lines.lines.iter().filter(|l| l.kind == k).count();
-    writeln!(
+    let counts = class_counts(lines);
+    write!(
         out,
         "# crestline feature lines: {} ridges, {} valleys",
-        count(LineKind::Ridge),
-        count(LineKind::Valley)
+        counts[0], counts[1]
     )?;
+    if counts[2] + counts[3] > 0 {
+        write!(
+            out,
+            ", {} crease ridges, {} crease valleys",
+            counts[2], counts[3]
+        )?;
+    }
+    writeln!(out)?;
     let mut next_index = 1usize;
-    for (kind, group) in [(LineKind::Ridge, "ridges"), (LineKind::Valley, "valleys")] {
+    for (class, group) in GROUP_NAMES.iter().enumerate() {
         let mut group_started = false;
-        for line in lines.lines.iter().filter(|l| l.kind == kind) {
+        for line in lines.lines.iter().filter(|l| class_of(l) == class) {
             if line.points.len() < 2 {
                 continue;
             }
@@ -152,8 +188,9 @@ pub fn parse_lines_obj(bytes: &[u8], name: &Path) -> Result<FeatureLines> {
     let mut positions: Vec<[f64; 3]> = Vec::new();
     // (line number, kind, 0-based indices); resolved once every vertex is known, since an
     // `l` may refer to vertices that come later.
-    let mut polylines: Vec<(usize, LineKind, Vec<usize>)> = Vec::new();
+    let mut polylines: Vec<(usize, LineKind, bool, Vec<usize>)> = Vec::new();
     let mut kind = LineKind::Ridge;
+    let mut crease = false;
     for (line, text) in Lines::new(bytes) {
         let mut tokens = Tokens::new(text);
         match tokens.next() {
@@ -163,12 +200,14 @@ pub fn parse_lines_obj(bytes: &[u8], name: &Path) -> Result<FeatureLines> {
                 positions.push(p);
             }
             Some(b"o" | b"g") => {
-                let name = tokens.next().unwrap_or_default();
-                kind = if name.eq_ignore_ascii_case(b"valleys") {
+                let name = tokens.next().unwrap_or_default().to_ascii_lowercase();
+                let has = |word: &[u8]| name.windows(word.len()).any(|w| w == word);
+                kind = if has(b"valley") {
                     LineKind::Valley
                 } else {
                     LineKind::Ridge
                 };
+                crease = has(b"crease");
             }
             Some(b"l") => {
                 let mut indices = Vec::new();
@@ -206,14 +245,14 @@ pub fn parse_lines_obj(bytes: &[u8], name: &Path) -> Result<FeatureLines> {
                         ),
                     ));
                 }
-                polylines.push((line, kind, indices));
+                polylines.push((line, kind, crease, indices));
             }
             _ => {}
         }
     }
 
     let mut lines = Vec::with_capacity(polylines.len());
-    for (line, kind, mut indices) in polylines {
+    for (line, kind, crease, mut indices) in polylines {
         if let Some(&bad) = indices.iter().find(|&&i| i >= positions.len()) {
             return Err(source.at_line(
                 line,
@@ -237,6 +276,7 @@ pub fn parse_lines_obj(bytes: &[u8], name: &Path) -> Result<FeatureLines> {
             closed,
             curvature_integral: 0.0,
             strength: 0.0,
+            crease,
         });
     }
     Ok(FeatureLines { lines })
@@ -255,6 +295,8 @@ fn polyline_length(points: &[Vec3], closed: bool) -> f64 {
 struct JsonFile {
     ridges: usize,
     valleys: usize,
+    crease_ridges: usize,
+    crease_valleys: usize,
     lines: Vec<JsonLine>,
 }
 
@@ -273,15 +315,17 @@ struct JsonLine {
 /// # Errors
 /// Whatever `out` returns.
 pub fn write_lines_json<W: Write>(out: W, lines: &FeatureLines) -> std::io::Result<()> {
-    let count = |k: LineKind| lines.lines.iter().filter(|l| l.kind == k).count();
+    let [ridges, valleys, crease_ridges, crease_valleys] = class_counts(lines);
     let file = JsonFile {
-        ridges: count(LineKind::Ridge),
-        valleys: count(LineKind::Valley),
+        ridges,
+        valleys,
+        crease_ridges,
+        crease_valleys,
         lines: lines
             .lines
             .iter()
             .map(|l| JsonLine {
-                kind: l.kind.name(),
+                kind: KIND_NAMES[class_of(l)],
                 closed: l.closed,
                 points: l.points.iter().map(|p| [p.x, p.y, p.z]).collect(),
                 length: l.length,
@@ -293,7 +337,8 @@ pub fn write_lines_json<W: Write>(out: W, lines: &FeatureLines) -> std::io::Resu
     serde_json::to_writer(out, &file).map_err(std::io::Error::other)
 }
 
-/// Writes the lines as PLY vertices and `edge`s with a `kind` (0 ridge, 1 valley).
+/// Writes the lines as PLY vertices and `edge`s with a `kind` (0 ridge, 1 valley, 2 crease
+/// ridge, 3 crease valley).
 ///
 /// # Errors
 /// Whatever `out` returns.
@@ -314,7 +359,8 @@ pub fn write_lines_ply<W: Write>(
         .sum();
     let index = index_type(vertices);
     let header = format!(
-        "ply\nformat {} 1.0\ncomment crestline feature lines; edge kind: 0 = ridge, 1 = valley\n\
+        "ply\nformat {} 1.0\ncomment crestline feature lines; edge kind: 0 = ridge, 1 = valley, 2 = crease ridge, \
+         3 = crease valley\n\
          element vertex {vertices}\nproperty double x\nproperty double y\nproperty double z\n\
          element edge {edges}\nproperty {index} vertex1\nproperty {index} vertex2\n\
          property uchar kind\nend_header\n",
@@ -331,10 +377,7 @@ pub fn write_lines_ply<W: Write>(
     let mut first = 0u32;
     for line in &lines.lines {
         let n = line.points.len() as u32;
-        let kind = match line.kind {
-            LineKind::Ridge => 0,
-            LineKind::Valley => 1,
-        };
+        let kind = class_of(line) as u8;
         let closing = line.closed && n >= 3;
         for k in 0..n.saturating_sub(1) + u32::from(closing) {
             out.index(first + k)?;
@@ -361,6 +404,7 @@ mod tests {
             closed,
             curvature_integral: 0.5,
             strength: 2.0,
+            crease: false,
         }
     }
 

@@ -149,6 +149,7 @@ fn build_line(mesh: &TriMesh, family: &Family<'_>, path: &[Node], closed: bool) 
         length: 0.0,
         curvature_integral: 0.0,
         strength: 0.0,
+        crease: false,
     };
     measure_line(mesh, family, &mut line);
     line

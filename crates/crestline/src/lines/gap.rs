@@ -215,6 +215,7 @@ fn empty_like(line: &FeatureLine) -> FeatureLine {
         length: 0.0,
         curvature_integral: 0.0,
         strength: 0.0,
+        crease: false,
     }
 }
 
@@ -263,6 +264,7 @@ mod tests {
                 length: 0.0,
                 curvature_integral: 0.0,
                 strength: 0.0,
+                crease: false,
             }
         }
 

@@ -153,6 +153,7 @@ pub fn link_feature_points(
                 length: 0.0,
                 curvature_integral: 0.0,
                 strength: 0.0,
+                crease: false,
             };
             measure_line(mesh, &family, &mut line);
             line

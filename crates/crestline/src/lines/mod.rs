@@ -7,12 +7,18 @@
 //!
 //! YBS 2005 trace edge by edge instead ([`trace_edges`], after Ohtake et al. 2004) and join
 //! broken pieces by gap jumping ([`gap`]); [`trace_crest_lines`] runs that for both families.
+//!
+//! Sharp creases are not crest lines: [`crease`] finds them as chains of mesh edges with a
+//! large dihedral angle, and [`merge`] puts them and the crest lines into one set
+//! ([`FeatureLine::crease`] tells them apart).
 
 pub mod assemble;
+pub mod crease;
 pub mod fair;
 pub mod filter;
 pub mod gap;
 pub mod link;
+pub mod merge;
 pub mod singular;
 pub mod trace;
 pub mod trace_edges;
@@ -77,7 +83,25 @@ pub struct FeatureLine {
     /// Integral of |k| (the dominant principal curvature) along the line (Ohtake et al. 2004).
     pub curvature_integral: f64,
     /// YBS strength T = ∫ds · ∫C ds with C the cyclideness (YBS eqs. 5, 6); scale independent.
+    /// For a crease curve: see [`crease::CreaseCurve::strength`].
     pub strength: f64,
+    /// True for a sharp crease of the mesh ([`crease`]): a chain of mesh edges whose dihedral
+    /// angle is above the crease threshold, `kind` saying whether it is convex (ridge
+    /// family) or concave (valley family). False for a crest line.
+    pub crease: bool,
+}
+
+impl FeatureLine {
+    /// The name files and bindings use for the line's class: `"ridge"`, `"valley"`,
+    /// `"crease-ridge"` or `"crease-valley"`.
+    pub fn kind_name(&self) -> &'static str {
+        match (self.kind, self.crease) {
+            (LineKind::Ridge, false) => "ridge",
+            (LineKind::Valley, false) => "valley",
+            (LineKind::Ridge, true) => "crease-ridge",
+            (LineKind::Valley, true) => "crease-valley",
+        }
+    }
 }
 
 /// All feature lines found on a mesh.
@@ -91,6 +115,11 @@ impl FeatureLines {
     /// Lines of one kind.
     pub fn of_kind(&self, kind: LineKind) -> impl Iterator<Item = &FeatureLine> {
         self.lines.iter().filter(move |l| l.kind == kind)
+    }
+
+    /// Crease curves (`crease` true), or crest lines (false).
+    pub fn creases(&self, crease: bool) -> impl Iterator<Item = &FeatureLine> {
+        self.lines.iter().filter(move |l| l.crease == crease)
     }
 
     /// Total length of all lines.

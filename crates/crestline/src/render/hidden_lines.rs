@@ -225,6 +225,7 @@ mod tests {
             length: 0.0,
             curvature_integral: 0.0,
             strength: 0.0,
+            crease: false,
         }
     }
 

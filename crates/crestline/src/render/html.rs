@@ -289,6 +289,7 @@ mod tests {
             length: 0.0,
             curvature_integral: 0.0,
             strength: 0.0,
+            crease: false,
         };
         let lines = FeatureLines { lines: vec![line] };
         let field = [0.0, 1.0, 2.0, 3.0];

@@ -168,6 +168,35 @@ pub fn smooth_extremalities(
         return Ok(());
     }
     let smoother = ExtremalitySmoother::new(mesh, curvature, options)?;
+    run_steps(&smoother, curvature, options)
+}
+
+/// [`smooth_extremalities`] without diffusion across `creases` (per edge of
+/// [`crate::mesh::Topology::edges`], true for a crease edge): every edge at a vertex on a
+/// crease gets weight 0, so the two sides of a crease do not exchange values through it
+/// (a crease vertex keeps its own, one-sided estimate).
+///
+/// # Errors
+/// As [`smooth_extremalities`]; [`Error::InvalidInput`] when `creases` does not have one entry
+/// per edge.
+pub fn smooth_extremalities_split(
+    mesh: &TriMesh,
+    curvature: &mut Curvature,
+    options: &ExtremalitySmoothing,
+    creases: &[bool],
+) -> Result<()> {
+    if options.steps == 0 || mesh.num_faces() == 0 {
+        return Ok(());
+    }
+    let smoother = ExtremalitySmoother::new_split(mesh, curvature, options, Some(creases))?;
+    run_steps(&smoother, curvature, options)
+}
+
+fn run_steps(
+    smoother: &ExtremalitySmoother<'_>,
+    curvature: &mut Curvature,
+    options: &ExtremalitySmoothing,
+) -> Result<()> {
     smoother.steps(&mut curvature.e_max, &mut curvature.e_min, options.steps)?;
     if curvature.extremality_noise > 0.0 {
         let [mut a, mut b] = std::mem::take(&mut curvature.simulated_noise);
@@ -192,6 +221,20 @@ impl<'m> ExtremalitySmoother<'m> {
         mesh: &'m TriMesh,
         curvature: &Curvature,
         options: &ExtremalitySmoothing,
+    ) -> Result<Self> {
+        Self::new_split(mesh, curvature, options, None)
+    }
+
+    /// [`ExtremalitySmoother::new`] without diffusion across `creases` (see
+    /// [`smooth_extremalities_split`]).
+    ///
+    /// # Errors
+    /// As [`smooth_extremalities_split`].
+    pub fn new_split(
+        mesh: &'m TriMesh,
+        curvature: &Curvature,
+        options: &ExtremalitySmoothing,
+        creases: Option<&[bool]>,
     ) -> Result<Self> {
         if !(options.time_step.is_finite() && options.time_step >= 0.0) {
             return Err(Error::InvalidInput(format!(
@@ -220,10 +263,28 @@ impl<'m> ExtremalitySmoother<'m> {
             }
             other => other.as_deref(),
         };
+        let edges = mesh.topology().edges();
+        let on_crease = match creases {
+            Some(flags) if flags.len() != edges.len() => {
+                return Err(Error::InvalidInput(format!(
+                    "crease flags: need one per edge ({}), got {}",
+                    edges.len(),
+                    flags.len()
+                )));
+            }
+            Some(flags) => {
+                let mut on = vec![false; n];
+                for (&[a, b], _) in edges.iter().zip(flags).filter(|(_, c)| **c) {
+                    on[a as usize] = true;
+                    on[b as usize] = true;
+                }
+                Some(on)
+            }
+            None => None,
+        };
         let (mut weights, mass) = cotan_weights_and_mass(mesh, mesh.positions());
         // One pass over the edges: the local factors, the crease attenuation and both
         // families' signs σ_pq = sign⟨dir(p), dir(q)⟩.
-        let edges = mesh.topology().edges();
         let mut max_flips = vec![false; edges.len()];
         let mut min_flips = vec![false; edges.len()];
         let (dir_max, dir_min) = (&curvature.dir_max, &curvature.dir_min);
@@ -235,7 +296,13 @@ impl<'m> ExtremalitySmoother<'m> {
                 if let Some(f) = factors {
                     *w *= 0.5 * (f[a as usize] + f[b as usize]);
                 }
-                if options.crease_angle > 0.0 {
+                if on_crease
+                    .as_ref()
+                    .is_some_and(|on| on[a as usize] || on[b as usize])
+                {
+                    *w = 0.0;
+                }
+                if options.crease_angle > 0.0 && *w != 0.0 {
                     *w /= crease_divisor(mesh, curvature, options.crease_angle, [a, b]);
                 }
                 let (a, b) = (a as usize, b as usize);
