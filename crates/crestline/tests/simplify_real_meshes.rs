@@ -136,6 +136,7 @@ fn extracted_lines_keep_detail_near_them_on_fandisk() {
     // crease pieces, so "near the lines" is a small part of the model. With the defaults the
     // lines follow every crease of fandisk and "near" is most of it (eta 1: 0.86 × eta 0).
     let mut options = ExtractOptions::default();
+    options.curvature.estimator = crestline::curvature::Estimator::ShapeOperator;
     options.curvature.shape_operator.direction_support = 0.0;
     options.smoothing.crease_angle = 0.0;
     options.smoothing.steps = 3;

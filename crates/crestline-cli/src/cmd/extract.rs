@@ -103,7 +103,7 @@ pub struct Args {
     /// Surface pre-smoothing steps (implicit mean-curvature flow). Off by default.
     #[arg(long)]
     pub pre_smooth: Option<usize>,
-    /// Curvature estimator (default: jet-fit for every method).
+    /// Curvature estimator (default: jet-fit for hpw and ybs, cubic-fit for saliency).
     #[arg(long, value_enum)]
     pub estimator: Option<EstimatorArg>,
     /// Radius of the jet fit's disc, in sample spacings (default 2.5).
