@@ -432,7 +432,6 @@ pub fn is_facet_edge(mesh: &TriMesh, angles: &[f64], e: u32, diagonal: f64) -> b
 pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
     let topo = mesh.topology();
     let faces = topo.vertex_faces(v);
-    let p = mesh.position(v);
     // Union-find over the (few) faces at v.
     let mut side: Vec<usize> = (0..faces.len()).collect();
     fn root(side: &mut [usize], mut i: usize) -> usize {
@@ -459,20 +458,9 @@ pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
             }
         }
     }
-    let corner_angle = |f: u32| {
-        let others: Vec<Vec3> = mesh.faces()[f as usize]
-            .iter()
-            .filter(|&&q| q != v)
-            .map(|&q| mesh.position(q) - p)
-            .collect();
-        match others[..] {
-            [a, b] => a.angle(&b),
-            _ => 0.0,
-        }
-    };
     let mut total = vec![0.0; faces.len()];
     for (i, &f) in faces.iter().enumerate() {
-        total[root(&mut side, i)] += corner_angle(f);
+        total[root(&mut side, i)] += corner_angle(mesh, f, v);
     }
     let Some(best) =
         (0..faces.len()).max_by(|&a, &b| total[a].total_cmp(&total[b]).then(b.cmp(&a)))
@@ -483,6 +471,22 @@ pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
         .filter(|&i| root(&mut side, i) == best)
         .map(|i| faces[i])
         .collect()
+}
+
+/// The angle of triangle `f` at its corner `v` (0 for a triangle that repeats `v`).
+fn corner_angle(mesh: &TriMesh, f: u32, v: u32) -> f64 {
+    let [a, b, c] = mesh.faces()[f as usize];
+    let (q, r) = match v {
+        _ if v == a => (b, c),
+        _ if v == b => (c, a),
+        _ if v == c => (a, b),
+        _ => return 0.0,
+    };
+    if q == v || r == v {
+        return 0.0;
+    }
+    let p = mesh.position(v);
+    (mesh.position(q) - p).angle(&(mesh.position(r) - p))
 }
 
 /// Cone points: interior vertices whose angle deficit `2π − Σ angles` exceeds
@@ -504,21 +508,10 @@ pub fn cone_points(mesh: &TriMesh, crease_edges: &[bool]) -> Vec<u32> {
             {
                 return false;
             }
-            let p = mesh.position(v);
             let total: f64 = topo
                 .vertex_faces(v)
                 .iter()
-                .map(|&f| {
-                    let others: Vec<Vec3> = mesh.faces()[f as usize]
-                        .iter()
-                        .filter(|&&q| q != v)
-                        .map(|&q| mesh.position(q) - p)
-                        .collect();
-                    match others[..] {
-                        [a, b] => a.angle(&b),
-                        _ => 0.0,
-                    }
-                })
+                .map(|&f| corner_angle(mesh, f, v))
                 .sum();
             (std::f64::consts::TAU - total).abs() > MAX_FACET_TURN.to_radians()
         })
