@@ -53,14 +53,15 @@
 //! runs only on surfaces the fit found noisy ([`ExtractOptions::smooth_only_noisy`]), and the
 //! strength T of each line is corrected for the part the remaining noise adds to it
 //! ([`crate::lines::assemble`]). Figures before and after: `BENCHMARKS.md`, "Quality".
-//! The saliency method keeps the paper's cubic fit (see [`ExtractOptions::for_method`]).
+//! The saliency method uses it too: its feature points are crest points (see
+//! [`crate::lines::link`]).
 //!
 //! *Orientation:* curvature signs follow the winding of the triangles, so a closed mesh wound
 //! inward gives ridges as valleys and valleys as ridges. [`extract`] takes the mesh as it is;
 //! pass it through [`crate::mesh::orient_outward`] first (the CLI does, unless
 //! `--keep-orientation`).
 //!
-//! **Saliency** (Mao, Wang, Zhou): curvature by the cubic fit, mesh saliency
+//! **Saliency** (Mao, Wang, Zhou): curvature (jet fit by default), mesh saliency
 //! ([`crate::saliency`]), an automatic threshold on it ([`crate::threshold`]) and the linking
 //! rules ([`crate::lines::link`]).
 //!
@@ -233,17 +234,12 @@ impl ExtractOptions {
             Method::Saliency => ExtractOptions {
                 auto_threshold: true,
                 knee: KneeSearch::default(),
-                // The paper's cubic fit, not the jet fit: the saliency's automatic threshold
-                // is a knee of its sorted values, and the jet fit's smoother curvature moves
-                // that knee (fandisk: 68 of 712 crease vertices above it, against 676 with the
-                // cubic fit; on the quality cases mean F1 0.33 against 0.29). Re-deriving the
-                // saliency's scales for a disc estimator is open (issue 19).
-                curvature: CurvatureOptions::default().with_estimator(Estimator::CubicFit),
-                // The saliency uses curvatures only.
-                smoothing: ExtremalitySmoothing {
-                    steps: 0,
-                    ..Default::default()
-                },
+                // The jet fit, as for HPW and YBS: the feature points are crest points, and
+                // the cubic fit's extremalities put them off the lines wherever the mesh is
+                // irregular (quality cases: mean F1 0.46 against 0.88).
+                curvature: CurvatureOptions::default().with_estimator(Estimator::JetFit),
+                smooth_only_noisy: true,
+                smoothing: ExtremalitySmoothing::default(),
                 filter: LineFilter {
                     measure: StrengthMeasure::CurvatureIntegral,
                     threshold: 0.0,

@@ -831,13 +831,21 @@ fn ybs_lines_are_the_sharp_edges_of_cad_solids() {
     check_method(Method::Ybs, &[("cone (Fine)", 0.94)]);
 }
 
-// Known gap: the exports pass, but on the fine meshes the saliency method links feature
-// points on the planar faces (its knee search runs on a saliency that is noise there once
-// the creases are split off). Run with `--ignored`.
+// Known gaps, measured: nothing on the planar faces and every corner reached on all twelve
+// meshes, but on the fine cone (F1 0.151), the fine filleted block (0.955) and the fine
+// box-cylinder union (0.930) the saliency method keeps crest points of the cone's and the
+// cylinders' sides, where e vanishes in theory: they are salient there (the curved part of a
+// shape made of planes), and linked into long networks whose strength passes the floor.
 #[test]
-#[ignore = "known gap: saliency links points on the planar faces of the fine meshes"]
 fn saliency_lines_are_the_sharp_edges_of_cad_solids() {
-    check_method(Method::Saliency, &[]);
+    check_method(
+        Method::Saliency,
+        &[
+            ("cone (Fine)", 0.14),
+            ("filleted block (Fine)", 0.94),
+            ("box-cylinder union (Fine)", 0.92),
+        ],
+    );
 }
 
 #[test]

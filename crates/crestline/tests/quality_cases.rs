@@ -220,3 +220,20 @@ fn ybs_noisy_superquadric() {
 fn ybs_noisy_torus_has_no_lines() {
     check_spurious(Method::Ybs, "ring/noisy20k", 0.1);
 }
+
+#[test]
+fn saliency_irregular_ellipsoid() {
+    // Measured (score.py): F1 1.000.
+    check_f1(Method::Saliency, "ovoid/irr20k", 0.97);
+}
+
+#[test]
+fn saliency_marching_cubes_superquadric() {
+    // Measured (score.py): F1 0.997.
+    check_f1(Method::Saliency, "superquadric/mc", 0.97);
+}
+
+#[test]
+fn saliency_noisy_torus_has_no_lines() {
+    check_spurious(Method::Saliency, "ring/noisy20k", 0.1);
+}

@@ -191,6 +191,7 @@ pub fn jet_fit_split(
         spacing,
         options,
         split: split.as_ref().filter(|s| s.any),
+        residual: false,
     };
     let sigma = context.probe_noise(options.radius);
     let noise = sigma / spacing.max(f64::MIN_POSITIVE);
@@ -291,6 +292,8 @@ struct Context<'a> {
     options: &'a JetFitOptions,
     /// Crease edges the discs do not cross; `None` when there are none.
     split: Option<&'a Split<'a>>,
+    /// Whether the fits measure their residual (the noise probe; a second pass over the disc).
+    residual: bool,
 }
 
 /// Crease edges and the vertices on them.
@@ -364,6 +367,7 @@ impl Context<'_> {
         };
         let probe = Context {
             options: &quartic,
+            residual: true,
             ..*self
         };
         let mut residuals: Vec<f64> = (0..n as u32)
@@ -546,9 +550,9 @@ impl Context<'_> {
             return None;
         };
         match degree {
-            4 => solve::<15>(&s.samples, 4),
-            3 => solve::<10>(&s.samples, 3),
-            _ => solve::<6>(&s.samples, 2),
+            4 => solve::<15>(&s.samples, 4, self.residual),
+            3 => solve::<10>(&s.samples, 3, self.residual),
+            _ => solve::<6>(&s.samples, 2, self.residual),
         }
     }
 }
@@ -599,7 +603,9 @@ struct Fit {
     residual: f64,
 }
 
-fn solve<const N: usize>(samples: &[Sample], degree: usize) -> Option<Fit> {
+/// The weighted least-squares fit of `samples` by the first `N` monomials; the residual is
+/// measured only when `residual` (NaN otherwise).
+fn solve<const N: usize>(samples: &[Sample], degree: usize, residual: bool) -> Option<Fit> {
     let mut ata = SMatrix::<f64, N, N>::zeros();
     let mut atb = SVector::<f64, N>::zeros();
     let mut atxi = SVector::<f64, N>::zeros();
@@ -625,10 +631,13 @@ fn solve<const N: usize>(samples: &[Sample], degree: usize) -> Option<Fit> {
     if !x.iter().all(|c| c.is_finite()) {
         return None;
     }
-    let mut sq = 0.0;
-    for s in samples {
-        let r = monomials::<N>(s.x, s.y).dot(&x) - s.z;
-        sq += s.w * r * r;
+    let mut sq = f64::NAN;
+    if residual {
+        sq = 0.0;
+        for s in samples {
+            let r = monomials::<N>(s.x, s.y).dot(&x) - s.z;
+            sq += s.w * r * r;
+        }
     }
     let mut coef = [0.0; 15];
     coef[..N].copy_from_slice(x.as_slice());
