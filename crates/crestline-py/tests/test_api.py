@@ -56,6 +56,14 @@ def test_write_and_read_back(lines, tmp_path):
     np.testing.assert_allclose(np.sort(back.lengths), np.sort(lines.lengths), rtol=1e-9)
     lines.write(tmp_path / "lines.data", format="json")
     assert (tmp_path / "lines.data").read_text().startswith("{")
+    # Every format reads back with kinds and strengths; PLY and JSON keep the order too.
+    np.testing.assert_array_equal(np.sort(back.strengths), np.sort(lines.strengths))
+    for extension in ("ply", "json"):
+        path = tmp_path / f"lines.{extension}"
+        lines.write(path)
+        back = crestline.read_lines(path)
+        assert back.kinds == lines.kinds, extension
+        np.testing.assert_array_equal(back.strengths, lines.strengths)
 
 
 def test_methods_and_thresholds(fandisk):
