@@ -96,7 +96,7 @@ impl LinesFormat {
 /// ```
 /// use crestline::io::lines::{LinesFormat, read_lines, write_lines_to};
 /// use crestline::io::PlyEncoding;
-/// # fn main() -> crestline::Result<()> {
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// let mesh = crestline::shapes::ellipsoid(3.0, 2.0, 1.0, 3);
 /// let lines = crestline::extract::extract(&mesh, &Default::default())?.lines;
 /// let dir = std::env::temp_dir().join("crestline-doc-read-lines");
@@ -819,16 +819,7 @@ mod tests {
 
     fn line(kind: LineKind, points: &[[f64; 3]], closed: bool) -> FeatureLine {
         let points: Vec<Vec3> = points.iter().map(|&p| Vec3::from(p)).collect();
-        FeatureLine {
-            kind,
-            length: polyline_length(&points, closed),
-            points,
-            locations: Vec::new(),
-            closed,
-            curvature_integral: 0.5,
-            strength: 2.0,
-            crease: false,
-        }
+        read_line(kind, false, points, closed, 2.0, 0.5)
     }
 
     fn sample() -> FeatureLines {
@@ -1019,7 +1010,7 @@ mod tests {
                      property int vertex1\nproperty int vertex2\nend_header\n0 0 0\n0 1\n";
         assert_eq!(
             e(out_of_range, LinesFormat::Ply),
-            "x: line 11: edge 0: vertex index 1 out of range (the file has 1 vertices)"
+            "x: line 12: edge 0: vertex index 1 out of range (the file has 1 vertices)"
         );
         // What extract writes for no lines at all reads back as no lines.
         for format in [LinesFormat::Obj, LinesFormat::Json, LinesFormat::Ply] {
