@@ -134,3 +134,17 @@ def test_help_shows_the_options():
     assert "estimator" in crestline.curvature.__doc__
     assert crestline.__version__
     assert crestline.Lines.write.__doc__
+
+
+def test_keep_orientation_reaches_the_library(tmp_path):
+    """An ovoid wound inward: oriented by default (a ridge), kept as wound on request (a valley)."""
+    vertices, faces = crestline.read_mesh(case_path("ovoid/reg5k"))
+    inward = faces[:, [0, 2, 1]]
+    oriented = crestline.extract(vertices, inward)
+    kept = crestline.extract(vertices, inward, keep_orientation=True)
+    outward = crestline.extract(vertices, faces)
+    assert oriented.kinds == outward.kinds
+    assert [k.replace("valley", "ridge") for k in kept.kinds] == [
+        k.replace("valley", "ridge") for k in outward.kinds
+    ]
+    assert kept.kinds != outward.kinds
