@@ -280,6 +280,32 @@ fn standard_input_and_output() {
 }
 
 #[test]
+fn the_built_in_example_only_when_standard_input_is_a_terminal() {
+    // `script` runs the command on a pseudo-terminal (util-linux; skipped where missing).
+    let command = format!("{} info", env!("CARGO_BIN_EXE_crestline"));
+    let out = match Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .stdin(Stdio::null())
+        .output()
+    {
+        Ok(out) if out.status.success() => out,
+        other => {
+            eprintln!("SKIPPED: no working `script` to give the command a terminal: {other:?}");
+            return;
+        }
+    };
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("using the built-in example"), "{text}");
+    assert!(text.contains("faces                  12946"), "{text}");
+    // Not a terminal (the tests' standard input): no example, standard input is read.
+    let err = fails(run(&["info"]));
+    assert!(
+        err.contains("standard input") && !err.contains("built-in example (fandisk"),
+        "{err}"
+    );
+}
+
+#[test]
 fn every_command_orients_the_mesh_as_extract_does() {
     let dir = tempfile::tempdir().unwrap();
     let outward = ellipsoid(dir.path(), "out.obj", false);
