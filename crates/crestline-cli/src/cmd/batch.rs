@@ -195,11 +195,11 @@ fn summary_table(outcomes: &[Outcome]) -> String {
             Ok(s) => {
                 out += &format!(
                     "{input:<width$}  {:>9}  {:>6}  {:>6}  {:>7}  {:>7}  {:>8.2}  {}\n",
-                    s["triangles"],
-                    s["lines"],
-                    s["ridges"],
-                    s["valleys"],
-                    s["creases"],
+                    s["triangles"].to_string(),
+                    s["lines"].to_string(),
+                    s["ridges"].to_string(),
+                    s["valleys"].to_string(),
+                    s["creases"].to_string(),
                     o.seconds,
                     o.output.display()
                 )

@@ -680,8 +680,7 @@ fn chain_edges(
         if degree(v) == 2 || degree(v) == 0 {
             continue;
         }
-        for slot in start[v as usize]..start[v as usize + 1] {
-            let k = at[slot];
+        for &k in &at[start[v as usize]..start[v as usize + 1]] {
             if !used[k] {
                 let (first, path) = follow(v, k, &mut used);
                 polylines.push((first, path, false));
@@ -902,7 +901,10 @@ mod tests {
     }
 
     /// What survives a file: everything but the mesh locations.
-    fn file_view(lines: &FeatureLines) -> Vec<(LineKind, bool, bool, Vec<Vec3>, f64, f64, f64)> {
+    /// Kind, crease, closed, points, length, strength, curvature integral.
+    type FileLine = (LineKind, bool, bool, Vec<Vec3>, f64, f64, f64);
+
+    fn file_view(lines: &FeatureLines) -> Vec<FileLine> {
         let mut v: Vec<_> = lines
             .lines
             .iter()
