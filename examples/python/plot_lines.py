@@ -1,7 +1,7 @@
 """Extract the feature lines of a mesh and draw them with matplotlib into a PNG.
 
     pip install ./crates/crestline-py matplotlib
-    python examples/python/plot_lines.py crates/crestline/fixtures/fandisk.obj -o fandisk-lines.png
+    python examples/python/plot_lines.py crates/crestline-cli/data/fandisk.obj -o fandisk-lines.png
 
 The mesh is drawn as a shaded grey surface, ridges red and valleys blue. matplotlib has no depth
 buffer across artists, so lines behind the surface show through; for an interactive view with

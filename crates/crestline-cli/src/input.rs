@@ -1,9 +1,10 @@
 //! Loading the inputs: the mesh (a file given by the user, or the built-in example) and the
 //! feature lines that guide `distance` and `simplify`.
 
+use std::io::{IsTerminal, Read};
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use crestline::TriMesh;
 use crestline::extract::{ExtractOptions, extract};
@@ -11,10 +12,10 @@ use crestline::io::Format;
 use crestline::lines::FeatureLines;
 use crestline::mesh::{EdgeKind, VertexKind};
 
-/// The built-in example: the fandisk CAD part (see `crates/crestline/fixtures/README.md`).
-const BUILT_IN_EXAMPLE: &[u8] = include_bytes!("../../crestline/fixtures/fandisk.obj");
+/// The built-in example: the fandisk CAD part (see `data/README.md`).
+const BUILT_IN_EXAMPLE: &[u8] = include_bytes!("../data/fandisk.obj");
 
-/// Formats a user can force with `--format`.
+/// Mesh formats, for `--input-format` (and `--format` where a mesh is written).
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum FormatArg {
     /// Wavefront OBJ.
@@ -50,7 +51,9 @@ pub struct OrientArgs {
 
 /// Says on stderr what of `mesh` the algorithms skip or treat specially (degenerate
 /// triangles dropped, unreferenced vertices, non-manifold edges), then reverses the closed
-/// components that face inward (unless `args` says to keep them) and says so.
+/// components that face inward (unless `args` says to keep them) and says so. Every command
+/// that reads a mesh calls this: orientation is decided here for the whole CLI, by the
+/// library's [`crestline::mesh::orient_outward`] (which `extract` also runs by default).
 pub fn prepare_mesh(mesh: TriMesh, name: &str, args: OrientArgs) -> Result<TriMesh> {
     note_awkward_parts(&mesh, name);
     if args.keep_orientation {
@@ -102,37 +105,119 @@ fn note_awkward_parts(mesh: &TriMesh, name: &str) {
     }
 }
 
-/// Reads `path`, or builds the built-in example when it is `None` (and says so on stderr).
-pub fn load_mesh(path: Option<&PathBuf>, format: Option<FormatArg>) -> Result<(TriMesh, String)> {
-    match path {
+/// The mesh a command reads: a file, `-` for standard input, or nothing (standard input
+/// when it is not a terminal, the built-in example when it is).
+#[derive(Debug, Clone, clap::Args)]
+pub struct MeshArgs {
+    /// Mesh file (OBJ, PLY, OFF, STL), or `-` for standard input. Without it, standard input
+    /// is read when it is not a terminal, and the built-in example is used when it is.
+    pub mesh: Option<PathBuf>,
+    /// Read the mesh as this format instead of guessing from the extension (needed for
+    /// standard input).
+    #[arg(long, value_enum)]
+    pub input_format: Option<FormatArg>,
+}
+
+impl MeshArgs {
+    /// Reads the mesh; see [`load_mesh`].
+    pub fn load(&self) -> Result<(TriMesh, String)> {
+        load_mesh(self.mesh.as_deref(), self.input_format)
+    }
+}
+
+/// The name standard input goes by in messages.
+pub const STDIN_NAME: &str = "<stdin>";
+
+/// True for the path `-`, which stands for standard input or output.
+pub fn is_dash(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// Reads `path` (`-`: standard input), or without a path standard input when it is not a
+/// terminal and the built-in example when it is (said on stderr). A mesh without triangles
+/// is an error.
+pub fn load_mesh(path: Option<&Path>, format: Option<FormatArg>) -> Result<(TriMesh, String)> {
+    let (mesh, name) = match path {
+        Some(p) if is_dash(p) => read_stdin(format, "-")?,
         Some(p) => {
             // Every reading error already names the file (and the position in it).
-            let mesh = crestline::io::read_mesh(p, format.map(Into::into))
-                .context("cannot load the mesh")?;
-            Ok((mesh, p.display().to_string()))
+            let mesh = crestline::io::read_mesh(p, format.map(Into::into))?;
+            (mesh, p.display().to_string())
         }
+        None if !std::io::stdin().is_terminal() => read_stdin(
+            format,
+            "no mesh file given and standard input is not a terminal",
+        )?,
         None => {
             eprintln!(
-                "no mesh given: using the built-in example (fandisk, a CAD part with sharp creases)"
+                "no mesh given: using the built-in example (fandisk, a CAD part with sharp \
+                 creases); give a file, or pipe one in with --input-format"
             );
             let name = "fandisk.obj (built-in)";
             let mesh =
                 crestline::io::read_mesh_bytes(BUILT_IN_EXAMPLE, Format::Obj, Path::new(name))?;
-            Ok((mesh, name.into()))
+            (mesh, name.into())
         }
+    };
+    if mesh.num_faces() == 0 {
+        bail!(
+            "{name}: no triangles ({} vertices, {} degenerate triangles dropped): nothing to \
+             work on",
+            mesh.num_vertices(),
+            mesh.degenerate_faces()
+        );
     }
+    Ok((mesh, name))
 }
 
-/// The feature lines that guide `distance` and `simplify`: read from `path` (an OBJ with `l`
-/// polylines, as `crestline extract` writes them) when given, otherwise extracted from `mesh`
-/// with the default method (and said so on stderr).
-pub fn load_lines(path: Option<&PathBuf>, mesh: &TriMesh) -> Result<FeatureLines> {
+/// Reads a whole mesh from standard input; `why` says why standard input is read.
+fn read_stdin(format: Option<FormatArg>, why: &str) -> Result<(TriMesh, String)> {
+    let Some(format) = format else {
+        bail!(
+            "reading the mesh from standard input ({why}): give its format with \
+             --input-format obj|ply|off|stl"
+        );
+    };
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .lock()
+        .read_to_end(&mut bytes)
+        .context("cannot read standard input")?;
+    if bytes.is_empty() {
+        bail!("{STDIN_NAME}: standard input is empty ({why}); give a mesh file");
+    }
+    let mesh = crestline::io::read_mesh_bytes(&bytes, format.into(), Path::new(STDIN_NAME))?;
+    Ok((mesh, STDIN_NAME.to_string()))
+}
+
+/// `--lines`: feature lines as `crestline extract` writes them (OBJ, PLY or JSON, by
+/// extension).
+#[derive(Debug, Clone, clap::Args)]
+pub struct LinesArg {
+    /// Feature lines as `crestline extract` writes them: OBJ, PLY or JSON, chosen by the
+    /// extension; kinds and strengths are read back.
+    #[arg(long, value_name = "LINES.{obj,ply,json}")]
+    pub lines: Option<PathBuf>,
+}
+
+/// Reads feature lines written by `crestline extract` (OBJ, PLY or JSON, by extension).
+pub fn read_lines(path: &Path) -> Result<FeatureLines> {
+    // Reading errors already name the file and the position in it.
+    Ok(crestline::io::lines::read_lines(path, None)?)
+}
+
+/// The feature lines that guide `distance` and `simplify`: read from `path` when given,
+/// otherwise extracted from `mesh` with the default method (and said so on stderr).
+pub fn load_lines(path: Option<&Path>, mesh: &TriMesh) -> Result<FeatureLines> {
     match path {
-        // Reading errors already name the file and line.
-        Some(p) => Ok(crestline::io::lines::read_lines_obj(p).context("cannot load the lines")?),
+        Some(p) => read_lines(p),
         None => {
-            let options = ExtractOptions::default();
-            eprintln!(
+            let options = ExtractOptions {
+                // The commands orient the mesh as they load it.
+                orient_outward: false,
+                ..ExtractOptions::default()
+            };
+            crate::progress::note!(
                 "no --lines given: extracting them with the default method ({:?})",
                 options.method
             );

@@ -6,6 +6,8 @@
 mod allocator;
 mod cmd;
 mod input;
+mod output;
+mod progress;
 mod scene;
 
 use clap::{Parser, Subcommand};
@@ -14,6 +16,9 @@ use clap::{Parser, Subcommand};
 #[derive(Debug, Parser)]
 #[command(name = "crestline", version, about, long_about = None)]
 struct Cli {
+    /// No progress and no notes on stderr (errors and warnings still go there).
+    #[arg(short, long, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -22,7 +27,8 @@ struct Cli {
 enum Command {
     /// Per-vertex curvature, directions and extremalities as PLY vertex properties or CSV.
     Curvature(cmd::curvature::Args),
-    /// Find ridges and valleys and write them as polylines (OBJ, PLY or JSON).
+    /// Find ridges, valleys and sharp creases and write them as polylines (OBJ, PLY or
+    /// JSON); several meshes or folders at once in parallel.
     Extract(Box<cmd::extract::Args>),
     /// Print counts and health figures of a mesh.
     Info(cmd::info::Args),
@@ -41,6 +47,7 @@ enum Command {
 fn main() -> std::process::ExitCode {
     allocator::return_large_blocks_when_freed();
     let cli = Cli::parse();
+    progress::set_quiet(cli.quiet);
     let result = match cli.command {
         Command::Curvature(args) => cmd::curvature::run(args),
         Command::Extract(args) => cmd::extract::run(*args),
@@ -54,8 +61,26 @@ fn main() -> std::process::ExitCode {
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", error_chain(&e));
             std::process::ExitCode::FAILURE
         }
     }
+}
+
+/// The error and its causes joined by `: `, leaving out a cause whose words the message
+/// already holds (an I/O error that names its file and also carries the OS error as its
+/// source would otherwise print the OS error twice).
+pub(crate) fn error_chain(error: &anyhow::Error) -> String {
+    let mut message = String::new();
+    for cause in error.chain() {
+        let text = cause.to_string();
+        if message.contains(&text) {
+            continue;
+        }
+        if !message.is_empty() {
+            message.push_str(": ");
+        }
+        message.push_str(&text);
+    }
+    message
 }

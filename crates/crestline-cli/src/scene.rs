@@ -3,17 +3,17 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::ValueEnum;
 use crestline::TriMesh;
 use crestline::curvature::{CurvatureOptions, estimate};
 use crestline::distance::{DistanceOptions, feature_distance};
-use crestline::io::lines::read_lines_obj;
 use crestline::lines::FeatureLines;
-use crestline::render::{ColorMapChoice, RenderOptions, UpAxis};
+use crestline::render::{ColorMapChoice, FieldRange, RenderOptions, UpAxis};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
-use crate::input::{FormatArg, load_mesh};
+use crate::input::{MeshArgs, OrientArgs, prepare_mesh, read_lines};
+use crate::progress;
 
 /// Per-vertex fields that can colour the mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -74,13 +74,13 @@ pub enum ColorMapArg {
 /// Arguments shared by `render` and `view`.
 #[derive(Debug, clap::Args)]
 pub struct SceneArgs {
-    /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
-    pub mesh: Option<PathBuf>,
-    /// Read the mesh as this format instead of guessing from the extension.
-    #[arg(long, value_enum)]
-    pub format: Option<FormatArg>,
-    /// Feature lines to draw: an OBJ file of polylines as `crestline extract` writes it.
-    #[arg(long, value_name = "LINES.obj")]
+    #[command(flatten)]
+    pub input: MeshArgs,
+    #[command(flatten)]
+    pub orient: OrientArgs,
+    /// Feature lines to draw, as `crestline extract` writes them: OBJ, PLY or JSON, chosen
+    /// by the extension.
+    #[arg(long, value_name = "LINES.{obj,ply,json}")]
     pub lines: Option<PathBuf>,
     /// Colour the mesh by this per-vertex field.
     #[arg(long, value_enum)]
@@ -94,6 +94,11 @@ pub struct SceneArgs {
     /// Colour map for --field.
     #[arg(long, value_enum, default_value = "auto")]
     pub colormap: ColorMapArg,
+    /// Field values at the ends of the colour map: `P%` clips to the P-th and (100-P)-th
+    /// percentiles (P from 0 to 49.9), `full` is the whole range (0%), `MIN,MAX` fixes them
+    /// [default: 2%].
+    #[arg(long, value_name = "P%|full|MIN,MAX", value_parser = parse_range, allow_hyphen_values = true)]
+    pub field_range: Option<FieldRange>,
     /// Line width in pixels [default: 2.5].
     #[arg(long)]
     pub line_width: Option<f64>,
@@ -116,16 +121,18 @@ pub struct Scene {
 }
 
 impl SceneArgs {
-    /// Loads the mesh and the lines and computes the field.
+    /// Loads the mesh (oriented as for every command) and the lines and computes the field.
     pub fn load(&self) -> Result<Scene> {
-        let (mesh, _) = load_mesh(self.mesh.as_ref(), self.format)?;
+        let (mesh, name) = progress::step("reading", || self.input.load())?;
+        let mesh = prepare_mesh(mesh, &name, self.orient)?;
         let lines = match &self.lines {
-            // Reading errors already name the file and the line in it.
-            Some(path) => Some(read_lines_obj(path).context("cannot load the lines")?),
+            Some(path) => Some(read_lines(path)?),
             None => None,
         };
         let field = match self.field {
-            Some(f) => Some(compute_field(&mesh, lines.as_ref(), f)?),
+            Some(f) => Some(progress::step(format!("field {}", f.name()), || {
+                compute_field(&mesh, lines.as_ref(), f)
+            })?),
             None => None,
         };
         Ok(Scene { mesh, lines, field })
@@ -146,6 +153,9 @@ impl SceneArgs {
             ColorMapArg::Viridis => ColorMapChoice::Viridis,
             ColorMapArg::Diverging => ColorMapChoice::Diverging,
         };
+        if let Some(range) = self.field_range {
+            opts.field_range = range;
+        }
         if let Some(w) = self.line_width {
             opts.line_width = w;
         }
@@ -180,6 +190,39 @@ fn compute_field(
             feature_distance(mesh, lines, &DistanceOptions::default())?.vertex
         }
     })
+}
+
+/// Parses `P%`, `full` or `MIN,MAX` (see `--field-range`).
+fn parse_range(s: &str) -> Result<FieldRange, String> {
+    let number = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("'{t}' is not a number"))
+    };
+    if s == "full" {
+        return Ok(FieldRange::Percentile(0.0));
+    }
+    if let Some(p) = s.strip_suffix('%') {
+        let p = number(p)?;
+        if !(0.0..50.0).contains(&p) {
+            return Err(format!(
+                "the percentile must be from 0 to below 50, got {p}"
+            ));
+        }
+        return Ok(FieldRange::Percentile(p));
+    }
+    let Some((min, max)) = s.split_once(',') else {
+        return Err(format!(
+            "'{s}': expected P% (for example 2%), full, or MIN,MAX"
+        ));
+    };
+    let (min, max) = (number(min)?, number(max)?);
+    if min >= max {
+        return Err(format!("MIN must be below MAX, got {min},{max}"));
+    }
+    Ok(FieldRange::Fixed { min, max })
 }
 
 /// Parses `AZ,EL` in degrees.
@@ -220,5 +263,15 @@ mod tests {
         assert_eq!(parse_size("800"), Ok((800, 800)));
         assert_eq!(parse_size("800x600"), Ok((800, 600)));
         assert!(parse_size("800x").is_err());
+        assert_eq!(parse_range("5%"), Ok(FieldRange::Percentile(5.0)));
+        assert_eq!(parse_range("full"), Ok(FieldRange::Percentile(0.0)));
+        assert_eq!(
+            parse_range("-1,2.5"),
+            Ok(FieldRange::Fixed {
+                min: -1.0,
+                max: 2.5
+            })
+        );
+        assert!(parse_range("50%").is_err() && parse_range("2,1").is_err());
     }
 }

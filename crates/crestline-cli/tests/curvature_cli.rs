@@ -6,8 +6,13 @@
 use std::ffi::OsStr;
 use std::process::Command;
 
-/// Runs `crestline` with `args` and checks that it succeeded.
+/// Runs `crestline` with `args` on fandisk (the mesh the command uses as its built-in example,
+/// inserted after the subcommand) and checks that it succeeded.
 fn crestline<I: IntoIterator<Item = S>, S: AsRef<OsStr>>(args: I) {
+    let fandisk = concat!(env!("CARGO_MANIFEST_DIR"), "/data/fandisk.obj");
+    let mut args: Vec<std::ffi::OsString> =
+        args.into_iter().map(|a| a.as_ref().to_owned()).collect();
+    args.insert(1, fandisk.into());
     let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
         .args(args)
         .output()

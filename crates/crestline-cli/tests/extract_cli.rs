@@ -9,10 +9,11 @@ use std::process::Command;
 fn json_stats_time_every_step_and_count_the_written_lines() {
     let dir = tempfile::tempdir().unwrap();
     let output = dir.path().join("lines.obj");
-    // The built-in example (fandisk) when no mesh is given.
+    // fandisk, the built-in example.
     let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
         .args([
             "extract",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/data/fandisk.obj"),
             "-o",
             output.to_str().unwrap(),
             "--stats=json",

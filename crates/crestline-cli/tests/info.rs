@@ -81,11 +81,11 @@ fn info_reads_binary_ply_and_forced_formats() {
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["faces"], 96_966);
 
-    // An OBJ under another name, read with --format.
+    // An OBJ under another name, read with --input-format.
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("triangle.txt");
     std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
-    let out = crestline(&["info", path.to_str().unwrap(), "--format", "obj"]);
+    let out = crestline(&["info", path.to_str().unwrap(), "--input-format", "obj"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("faces                  1"), "{text}");

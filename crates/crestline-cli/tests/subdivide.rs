@@ -47,8 +47,16 @@ fn two_levels_of_a_closed_mesh() {
 fn zero_levels_converts_the_format() {
     let dir = tempfile::tempdir().unwrap();
     let output = dir.path().join("fandisk.off");
-    // The built-in example (fandisk) when no mesh is given.
-    let out = crestline(&["subdivide", "-o", output.to_str().unwrap(), "--levels", "0"]);
+    // fandisk, the built-in example.
+    let fandisk = concat!(env!("CARGO_MANIFEST_DIR"), "/data/fandisk.obj");
+    let out = crestline(&[
+        "subdivide",
+        fandisk,
+        "-o",
+        output.to_str().unwrap(),
+        "--levels",
+        "0",
+    ]);
     assert!(out.status.success(), "{}", stderr(&out));
     let text = std::fs::read_to_string(&output).unwrap();
     assert!(text.starts_with("OFF\n6475 12946 0\n"), "{}", &text[..40]);
@@ -63,7 +71,8 @@ fn refuses_a_bad_corner_angle_and_an_oversized_result() {
         (vec!["--corner-angle", "200"], "corner angle"),
         (vec!["--levels", "12"], "12 levels"),
     ] {
-        let mut all = vec!["subdivide", "-o", o];
+        let fandisk = concat!(env!("CARGO_MANIFEST_DIR"), "/data/fandisk.obj");
+        let mut all = vec!["subdivide", fandisk, "-o", o];
         all.extend(args);
         let out = crestline(&all);
         let err = stderr(&out);

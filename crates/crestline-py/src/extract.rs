@@ -79,6 +79,8 @@ pub fn extract(
 ) -> PyResult<Lines> {
     let mesh = mesh_from_arrays(vertices, faces, keep_orientation)?;
     let mut options = ExtractOptions::for_method(choose("method", method, &METHODS)?);
+    // `mesh_from_arrays` has oriented the mesh already, unless `keep_orientation`.
+    options.orient_outward = false;
     if let Some(steps) = smooth_steps {
         options.smoothing.steps = steps;
         options.smooth_only_noisy = false;

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use crestline::extract::ExtractStats;
 use crestline::io::PlyEncoding;
-use crestline::io::lines::{LinesFormat, read_lines_obj, write_lines};
+use crestline::io::lines::{LinesFormat, write_lines};
 use crestline::lines::{FeatureLine, FeatureLines};
 use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::PyIndexError;
@@ -243,11 +243,12 @@ impl Line {
     }
 }
 
-/// Reads feature lines from an OBJ file of `l` polylines (as `Lines.write` and `crestline
-/// extract` write them): the group named `valleys` gives valleys, every other group ridges.
-/// OBJ keeps no strengths: they read back as 0.
+/// Reads feature lines from a file `Lines.write` or `crestline extract` wrote: OBJ, PLY or
+/// JSON, chosen by the extension, with kinds (crease kinds too) and strengths.
 #[pyfunction]
 pub fn read_lines(py: Python<'_>, path: PathBuf) -> PyResult<Lines> {
-    let lines = py.detach(|| read_lines_obj(&path)).map_err(to_py_err)?;
+    let lines = py
+        .detach(|| crestline::io::lines::read_lines(&path, None))
+        .map_err(to_py_err)?;
     Ok(Lines::new(lines, None))
 }

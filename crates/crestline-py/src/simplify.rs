@@ -109,5 +109,10 @@ pub fn feature_distance<'py>(
 
 /// The lines `simplify` and `feature_distance` use when none are given.
 fn guiding_lines(mesh: &TriMesh) -> crestline::Result<FeatureLines> {
-    Ok(extract(mesh, &ExtractOptions::default())?.lines)
+    // `mesh_from_arrays` has oriented the mesh already, unless `keep_orientation`.
+    let options = ExtractOptions {
+        orient_outward: false,
+        ..ExtractOptions::default()
+    };
+    Ok(extract(mesh, &options)?.lines)
 }

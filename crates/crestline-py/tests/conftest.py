@@ -22,7 +22,7 @@ SHARED = Path(os.environ.get("CRESTLINE_SHARED", REPO.parent / "shared"))
 MESHES = SHARED / "data" / "meshes"
 CASES = SHARED / "quality" / "cases"
 # The built-in example of the command-line tool, kept in the repository.
-FANDISK = REPO / "crates" / "crestline" / "fixtures" / "fandisk.obj"
+FANDISK = REPO / "crates" / "crestline-cli" / "data" / "fandisk.obj"
 
 
 def _find_cli():

@@ -56,6 +56,14 @@ def test_write_and_read_back(lines, tmp_path):
     np.testing.assert_allclose(np.sort(back.lengths), np.sort(lines.lengths), rtol=1e-9)
     lines.write(tmp_path / "lines.data", format="json")
     assert (tmp_path / "lines.data").read_text().startswith("{")
+    # Every format reads back with kinds and strengths; PLY and JSON keep the order too.
+    np.testing.assert_array_equal(np.sort(back.strengths), np.sort(lines.strengths))
+    for extension in ("ply", "json"):
+        path = tmp_path / f"lines.{extension}"
+        lines.write(path)
+        back = crestline.read_lines(path)
+        assert back.kinds == lines.kinds, extension
+        np.testing.assert_array_equal(back.strengths, lines.strengths)
 
 
 def test_methods_and_thresholds(fandisk):
@@ -126,3 +134,17 @@ def test_help_shows_the_options():
     assert "estimator" in crestline.curvature.__doc__
     assert crestline.__version__
     assert crestline.Lines.write.__doc__
+
+
+def test_keep_orientation_reaches_the_library(tmp_path):
+    """An ovoid wound inward: oriented by default (a ridge), kept as wound on request (a valley)."""
+    vertices, faces = crestline.read_mesh(case_path("ovoid/reg5k"))
+    inward = faces[:, [0, 2, 1]]
+    oriented = crestline.extract(vertices, inward)
+    kept = crestline.extract(vertices, inward, keep_orientation=True)
+    outward = crestline.extract(vertices, faces)
+    assert oriented.kinds == outward.kinds
+    assert [k.replace("valley", "ridge") for k in kept.kinds] == [
+        k.replace("valley", "ridge") for k in outward.kinds
+    ]
+    assert kept.kinds != outward.kinds

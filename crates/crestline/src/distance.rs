@@ -105,6 +105,21 @@ pub struct FeatureDistance {
 ///
 /// Lines without any point are ignored; with no line at all every value is `+∞`.
 ///
+/// ```
+/// use crestline::distance::{DistanceOptions, feature_distance};
+///
+/// # fn main() -> crestline::Result<()> {
+/// // A box with curved faces and its 12 crease edges as lines.
+/// let (mesh, creases) = crestline::shapes::pillow_box(1.0, 0.25, 8);
+/// let d = feature_distance(&mesh, &creases, &DistanceOptions::default())?;
+/// assert_eq!(d.vertex.len(), mesh.num_vertices());
+/// assert_eq!(d.unreached_vertices, 0);
+/// // Face centres are farthest from the edges, about a face's half width away.
+/// assert!(d.max > 0.9 && d.max < 1.3, "{}", d.max);
+/// # Ok(())
+/// # }
+/// ```
+///
 /// # Errors
 /// [`Error::InvalidInput`] when a line point is not finite, a line's `locations` are neither
 /// empty nor one per point, a location refers to an element the mesh does not have, or

@@ -57,9 +57,11 @@
 //! [`crate::lines::link`]).
 //!
 //! *Orientation:* curvature signs follow the winding of the triangles, so a closed mesh wound
-//! inward gives ridges as valleys and valleys as ridges. [`extract`] takes the mesh as it is;
-//! pass it through [`crate::mesh::orient_outward`] first (the CLI does, unless
-//! `--keep-orientation`).
+//! inward gives ridges as valleys and valleys as ridges. By default [`extract`] first
+//! reverses the closed components that face inward ([`crate::mesh::orient_outward`];
+//! [`ExtractOptions::orient_outward`], reported in [`ExtractStats::orientation`]), as the CLI
+//! does for every command (unless `--keep-orientation`). Vertex and face indices stay as
+//! they are, so the curvature fields and line locations refer to the mesh as given.
 //!
 //! **Saliency** (Mao, Wang, Zhou): curvature (jet fit by default), mesh saliency
 //! ([`crate::saliency`]), an automatic threshold on it ([`crate::threshold`]) and the linking
@@ -90,7 +92,7 @@ use crate::lines::merge::{MergeOptions, merge_creases};
 use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
 };
-use crate::mesh::TriMesh;
+use crate::mesh::{Orientation, TriMesh, orient_outward, orientation};
 use crate::saliency::{SaliencyOptions, mesh_saliency};
 use crate::smoothing::extremality::{
     ExtremalitySmoothing, smooth_extremalities, smooth_extremalities_split,
@@ -116,6 +118,11 @@ pub enum Method {
 pub struct ExtractOptions {
     /// The pipeline. Default: [`Method::Hpw`].
     pub method: Method,
+    /// Reverse the triangles of closed components that face inward (negative volume) before
+    /// anything else, so that ridges are not taken for valleys (see the module docs and
+    /// [`crate::mesh::orient`](mod@crate::mesh::orient)); `false` takes the winding as it
+    /// is. Default: true.
+    pub orient_outward: bool,
     /// Step 1: surface pre-smoothing. Default: off (0 steps).
     pub pre_smoothing: SurfaceSmoothing,
     /// Curvature estimation; the estimator is set by the method (shape operator for HPW,
@@ -190,6 +197,7 @@ impl ExtractOptions {
         match method {
             Method::Hpw => ExtractOptions {
                 method,
+                orient_outward: true,
                 pre_smoothing: SurfaceSmoothing::default(),
                 curvature: CurvatureOptions::default().with_estimator(Estimator::JetFit),
                 smooth_only_noisy: true,
@@ -210,6 +218,7 @@ impl ExtractOptions {
             },
             Method::Ybs => ExtractOptions {
                 method,
+                orient_outward: true,
                 pre_smoothing: SurfaceSmoothing::default(),
                 curvature: CurvatureOptions::default().with_estimator(Estimator::JetFit),
                 smooth_only_noisy: true,
@@ -343,6 +352,9 @@ pub struct ExtractStats {
     pub gaps_jumped: usize,
     /// Wall time of each stage that ran, in order.
     pub stage_times: Vec<(Stage, Duration)>,
+    /// The closed components found and those reversed because they faced inward (all zero
+    /// when [`ExtractOptions::orient_outward`] is off).
+    pub orientation: Orientation,
 }
 
 /// The result of [`extract`].
@@ -356,7 +368,26 @@ pub struct Extraction {
     pub stats: ExtractStats,
 }
 
-/// Finds the feature lines of `mesh` with default progress reporting (none).
+/// Finds the feature lines of `mesh`: ridges, valleys and sharp creases, by the pipeline of
+/// `options.method` (see the module docs for the steps), without progress reports.
+///
+/// The mesh is taken as given except that closed components facing inward are reversed
+/// first ([`ExtractOptions::orient_outward`]). Degenerate triangles, boundaries and
+/// non-manifold edges are allowed.
+///
+/// ```
+/// use crestline::extract::{ExtractOptions, Method, extract};
+/// use crestline::lines::LineKind;
+///
+/// # fn main() -> crestline::Result<()> {
+/// // An ellipsoid x²/9 + y²/4 + z² = 1 has one crest line, a ridge around its widest part.
+/// let mesh = crestline::shapes::ellipsoid(3.0, 2.0, 1.0, 4);
+/// let found = extract(&mesh, &ExtractOptions::for_method(Method::Hpw))?;
+/// assert!(found.lines.of_kind(LineKind::Ridge).count() >= 1);
+/// assert_eq!(found.stats.valleys, 0);
+/// # Ok(())
+/// # }
+/// ```
 ///
 /// # Errors
 /// Invalid options, or a solver failure in a smoothing step.
@@ -377,6 +408,19 @@ pub fn extract_with_progress(
     let mut stats = ExtractStats {
         triangles: mesh.num_faces(),
         ..Default::default()
+    };
+    let oriented;
+    let mesh = if options.orient_outward {
+        let (report, _) = orientation(mesh);
+        stats.orientation = report;
+        if report.inward > 0 {
+            oriented = orient_outward(mesh.clone())?.0;
+            &oriented
+        } else {
+            mesh
+        }
+    } else {
+        mesh
     };
     let mut clock = StageClock {
         progress,

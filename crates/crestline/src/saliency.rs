@@ -62,6 +62,20 @@ pub const MAX_SCALES: usize = 4;
 
 /// Computes the saliency of every vertex. Unreferenced vertices get 0.
 ///
+/// ```
+/// use crestline::curvature::{CurvatureOptions, estimate};
+/// use crestline::saliency::{SaliencyOptions, mesh_saliency};
+///
+/// # fn main() -> crestline::Result<()> {
+/// let mesh = crestline::shapes::ellipsoid(3.0, 2.0, 1.0, 3);
+/// let curvature = estimate(&mesh, &CurvatureOptions::default())?;
+/// let s = mesh_saliency(&mesh, &curvature, &SaliencyOptions::default())?;
+/// assert_eq!(s.saliency.len(), mesh.num_vertices());
+/// assert!(s.saliency.iter().all(|x| x.is_finite() && *x >= 0.0));
+/// # Ok(())
+/// # }
+/// ```
+///
 /// # Errors
 /// [`Error::InvalidInput`] when `scales` is not in `1..=4` or `lambda` is not positive.
 pub fn mesh_saliency(

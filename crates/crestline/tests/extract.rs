@@ -40,3 +40,24 @@ fn output_is_deterministic_and_polylines_are_simple() {
     };
     check_deterministic_and_simple(&mesh, &options, "HPW");
 }
+
+#[test]
+fn an_ellipsoid_wound_inward_is_oriented_first_unless_told_not_to() {
+    let outward = shapes::ellipsoid(A, B, C, 3);
+    let faces = outward.faces().iter().map(|t| [t[0], t[2], t[1]]).collect();
+    let inward = crestline::TriMesh::new(outward.positions().to_vec(), faces).unwrap();
+    let options = ExtractOptions::for_method(Method::Hpw);
+    let found = crestline::extract::extract(&inward, &options).unwrap();
+    assert_eq!((found.stats.ridges, found.stats.valleys), (1, 0));
+    assert_eq!(found.stats.orientation.inward, 1);
+    let same = crestline::extract::extract(&outward, &options).unwrap();
+    assert_eq!(found.lines.lines[0].points, same.lines.lines[0].points);
+    // Taken as wound, the normals point inward and the crest line is a valley.
+    let as_wound = ExtractOptions {
+        orient_outward: false,
+        ..options
+    };
+    let found = crestline::extract::extract(&inward, &as_wound).unwrap();
+    assert_eq!((found.stats.ridges, found.stats.valleys), (0, 1));
+    assert_eq!(found.stats.orientation.inward, 0);
+}

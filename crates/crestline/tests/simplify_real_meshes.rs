@@ -130,7 +130,7 @@ fn real_meshes_keep_their_topology() {
 
 #[test]
 fn extracted_lines_keep_detail_near_them_on_fandisk() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/fandisk.obj");
+    let path = meshes_dir().join("fandisk.obj");
     let mesh = read_mesh(&path, None).unwrap();
     // The lines of HPW as published (no direction support, plain smoothing, 3 steps): a few
     // crease pieces, so "near the lines" is a small part of the model. With the defaults the

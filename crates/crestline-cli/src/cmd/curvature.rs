@@ -3,16 +3,16 @@
 
 use std::io::Write;
 use std::path::PathBuf;
-use std::time::Duration;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use crestline::curvature::{Curvature, CurvatureOptions, Estimator, estimate};
 use crestline::io::{PlyEncoding, PlyWriter, VertexProperty};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
-use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::input::{FormatArg, OrientArgs, load_mesh, prepare_mesh};
+use crate::input::{MeshArgs, OrientArgs, is_dash, prepare_mesh};
+use crate::output::{display, to_stdout};
+use crate::progress::{self, note};
 
 /// The estimator.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -38,29 +38,29 @@ impl From<EstimatorArg> for Estimator {
 /// Arguments of `crestline curvature`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
-    pub mesh: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: MeshArgs,
     #[command(flatten)]
     pub orient: OrientArgs,
-    /// Output: a PLY with the mesh and the fields as vertex properties (CSV with `--csv`).
+    /// Output: a PLY with the mesh and the fields as vertex properties (CSV with `--csv`),
+    /// or `-` for standard output.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Read the mesh as this format instead of guessing from the extension.
-    #[arg(long, value_enum)]
-    pub format: Option<FormatArg>,
     /// The estimator.
     #[arg(long, value_enum, default_value = "jet-fit")]
     pub estimator: EstimatorArg,
-    /// Rings of the cubic fit (1 to 4).
-    #[arg(long, default_value_t = 1)]
-    pub rings: usize,
-    /// Radius of the jet fit's disc, in sample spacings.
-    #[arg(long, default_value_t = crestline::curvature::JetFitOptions::DEFAULT.radius)]
-    pub radius: f64,
-    /// Degree of the jet fit (3 or 4).
-    #[arg(long, default_value_t = crestline::curvature::JetFitOptions::DEFAULT.degree)]
-    pub degree: usize,
-    /// Do not grow the jet fit's radius with the measured noise level.
+    /// Rings of the cubic fit, 1 to 8 (estimator cubic-fit only) [default: 1].
+    #[arg(long, value_parser = super::extract::rings)]
+    pub rings: Option<usize>,
+    /// Radius of the jet fit's disc, in sample spacings, > 0 (estimator jet-fit only)
+    /// [default: 2.5].
+    #[arg(long, value_parser = super::extract::positive)]
+    pub radius: Option<f64>,
+    /// Degree of the jet fit, 3 or 4 (estimator jet-fit only) [default: 3].
+    #[arg(long, value_parser = clap::value_parser!(u8).range(3..=4))]
+    pub degree: Option<u8>,
+    /// Do not grow the jet fit's radius with the measured noise level (estimator jet-fit
+    /// only).
     #[arg(long)]
     pub no_noise_adaptation: bool,
     /// Write CSV (one row per vertex) instead of PLY.
@@ -93,25 +93,30 @@ fn columns(c: &Curvature) -> Vec<(&'static str, Vec<f64>)> {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
+    let estimator: Estimator = args.estimator.into();
+    let jet_fit_only = args.radius.is_some() || args.degree.is_some() || args.no_noise_adaptation;
+    if jet_fit_only && estimator != Estimator::JetFit {
+        bail!("--radius, --degree and --no-noise-adaptation apply to --estimator jet-fit only");
+    }
+    if args.rings.is_some() && estimator != Estimator::CubicFit {
+        bail!("--rings applies to --estimator cubic-fit only");
+    }
+    let (mesh, name) = progress::step("reading", || args.input.load())?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
-    let options = CurvatureOptions::default()
-        .with_estimator(args.estimator.into())
-        .with_rings(args.rings);
-    let options = CurvatureOptions {
-        jet_fit: options
-            .jet_fit
-            .with_radius(args.radius)
-            .with_degree(args.degree)
-            .with_adapt_to_noise(!args.no_noise_adaptation),
-        ..options
-    };
-    let spinner = ProgressBar::new_spinner().with_style(
-        ProgressStyle::with_template("{spinner} {msg} {elapsed}")
-            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-    );
-    spinner.set_message(format!("curvature of {} vertices", mesh.num_vertices()));
-    spinner.enable_steady_tick(Duration::from_millis(100));
+    let mut options = CurvatureOptions::default().with_estimator(estimator);
+    if let Some(k) = args.rings {
+        options = options.with_rings(k);
+    }
+    if let Some(r) = args.radius {
+        options.jet_fit = options.jet_fit.with_radius(r);
+    }
+    if let Some(d) = args.degree {
+        options.jet_fit = options.jet_fit.with_degree(d.into());
+    }
+    options.jet_fit = options
+        .jet_fit
+        .with_adapt_to_noise(!args.no_noise_adaptation);
+    let spinner = progress::spinner(format!("curvature of {} vertices", mesh.num_vertices()));
     let curvature = estimate(&mesh, &options)?;
     let mut cols = columns(&curvature);
     if args.saliency {
@@ -122,22 +127,30 @@ pub fn run(args: Args) -> Result<()> {
     spinner.finish_and_clear();
 
     if args.csv {
-        let file = std::fs::File::create(&args.output)
-            .with_context(|| format!("cannot create {}", args.output.display()))?;
-        let mut out = std::io::BufWriter::new(file);
-        let header: Vec<&str> = ["x", "y", "z"]
-            .into_iter()
-            .chain(cols.iter().map(|(n, _)| *n))
-            .collect();
-        writeln!(out, "{}", header.join(","))?;
-        for (v, p) in mesh.positions().iter().enumerate() {
-            write!(out, "{},{},{}", p.x, p.y, p.z)?;
-            for (_, values) in &cols {
-                write!(out, ",{}", values[v])?;
+        let write_csv = |out: &mut dyn Write| -> std::io::Result<()> {
+            let header: Vec<&str> = ["x", "y", "z"]
+                .into_iter()
+                .chain(cols.iter().map(|(n, _)| *n))
+                .collect();
+            writeln!(out, "{}", header.join(","))?;
+            for (v, p) in mesh.positions().iter().enumerate() {
+                write!(out, "{},{},{}", p.x, p.y, p.z)?;
+                for (_, values) in &cols {
+                    write!(out, ",{}", values[v])?;
+                }
+                writeln!(out)?;
             }
-            writeln!(out)?;
+            Ok(())
+        };
+        if is_dash(&args.output) {
+            to_stdout(write_csv)?;
+        } else {
+            let file = std::fs::File::create(&args.output)
+                .with_context(|| format!("cannot create {}", args.output.display()))?;
+            let mut out = std::io::BufWriter::new(file);
+            write_csv(&mut out)?;
+            out.flush()?;
         }
-        out.flush()?;
     } else {
         let mut writer = PlyWriter::new(&mesh)
             .encoding(if args.ascii {
@@ -153,13 +166,17 @@ pub fn run(args: Args) -> Result<()> {
             let single: Vec<f32> = values.iter().map(|&x| x as f32).collect();
             writer = writer.property(VertexProperty::new(*n, single))?;
         }
-        writer.write(&args.output)?;
+        if is_dash(&args.output) {
+            to_stdout(|out| writer.write_to(out))?;
+        } else {
+            writer.write(&args.output)?;
+        }
     }
-    eprintln!(
+    note!(
         "{name}: curvature of {} vertices ({} fallback) -> {}",
         mesh.num_vertices(),
         curvature.fallback_vertices,
-        args.output.display()
+        display(&args.output)
     );
     Ok(())
 }

@@ -7,25 +7,25 @@ use anyhow::{Result, bail};
 use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::io::{Format, PlyEncoding, PlyWriter, VertexProperty};
 
-use crate::input::{FormatArg, OrientArgs, load_lines, load_mesh, prepare_mesh};
+use crate::input::{MeshArgs, OrientArgs, is_dash, load_lines, prepare_mesh};
+use crate::output::{display, to_stdout};
+use crate::progress::{self, note};
 
 /// Arguments of `crestline distance`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
-    pub mesh: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: MeshArgs,
     #[command(flatten)]
     pub orient: OrientArgs,
-    /// Read the mesh as this format instead of guessing from the extension.
-    #[arg(long, value_enum)]
-    pub format: Option<FormatArg>,
-    /// Output: the mesh as PLY with the vertex property `feature_distance`. Vertices no line
-    /// reaches (other components) get the largest distance found.
+    /// Output: the mesh as PLY with the vertex property `feature_distance`, or `-` for
+    /// standard output. Vertices no line reaches (other components) get the largest distance
+    /// found.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Feature lines as an OBJ file with `l` polylines. Without it they are extracted from
-    /// the mesh with the default method (as `crestline extract` does).
-    #[arg(long)]
+    /// Feature lines as `crestline extract` writes them (OBJ, PLY or JSON, by extension).
+    /// Without it they are extracted from the mesh with the default method.
+    #[arg(long, value_name = "LINES.{obj,ply,json}")]
     pub lines: Option<PathBuf>,
     /// Propagate along edges only (plain Dijkstra, which overestimates) instead of also
     /// across triangles.
@@ -38,17 +38,19 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    if Format::from_path(&args.output) != Some(Format::Ply) {
+    if !is_dash(&args.output) && Format::from_path(&args.output) != Some(Format::Ply) {
         bail!(
             "{}: the distance field is written as PLY: give an output ending in .ply",
             args.output.display()
         );
     }
-    let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
+    let (mesh, name) = progress::step("reading", || args.input.load())?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
-    let lines = load_lines(args.lines.as_ref(), &mesh)?;
+    let lines = progress::step("feature lines", || load_lines(args.lines.as_deref(), &mesh))?;
     let options = DistanceOptions::default().with_relax_across_triangles(!args.edges_only);
-    let distance = feature_distance(&mesh, &lines, &options)?;
+    let distance = progress::step("distance to the lines", || {
+        feature_distance(&mesh, &lines, &options)
+    })?;
     // PLY readers handle infinities poorly; "as far as anything gets" is also how the
     // simplification weights read an unreached vertex.
     let values: Vec<f64> = distance
@@ -61,19 +63,23 @@ pub fn run(args: Args) -> Result<()> {
     } else {
         PlyEncoding::BinaryLittleEndian
     };
-    PlyWriter::new(&mesh)
+    let writer = PlyWriter::new(&mesh)
         .encoding(encoding)
         .comment(format!("feature_distance to {} lines", lines.lines.len()))
-        .property(VertexProperty::new("feature_distance", values))?
-        .write(&args.output)?;
-    eprintln!(
+        .property(VertexProperty::new("feature_distance", values))?;
+    if is_dash(&args.output) {
+        to_stdout(|out| writer.write_to(out))?;
+    } else {
+        writer.write(&args.output)?;
+    }
+    note!(
         "{name}: {} lines, {} seeded vertices, largest distance {:.6}, {} vertices unreached; \
          written to {}",
         lines.lines.len(),
         distance.seeded_vertices,
         distance.max,
         distance.unreached_vertices,
-        args.output.display()
+        display(&args.output)
     );
     Ok(())
 }

@@ -1,4 +1,6 @@
-//! `crestline extract`: feature lines of a mesh, written as OBJ, PLY or JSON.
+//! `crestline extract`: feature lines of a mesh, written as OBJ, PLY or JSON; several meshes
+//! (files or folders) are processed in parallel, one output each, with a summary (see
+//! `batch.rs`).
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -6,17 +8,21 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use crestline::curvature::Estimator;
+use crestline::curvature::cubic_fit::MAX_RINGS;
 use crestline::extract::{ExtractOptions, Extraction, Method, Stage, extract_with_progress};
 use crestline::io::PlyEncoding;
-use crestline::io::lines::{LinesFormat, write_lines};
+use crestline::io::lines::{LinesFormat, write_lines, write_lines_to};
 use crestline::lines::crease::CreaseAngle;
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 use crestline::smoothing::surface::SurfaceSmoothing;
 use crestline::{TriMesh, Vec3};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 
+use super::batch;
 use super::curvature::EstimatorArg;
-use crate::input::{FormatArg, OrientArgs, load_mesh, prepare_mesh};
+use crate::input::{FormatArg, OrientArgs, is_dash, load_mesh, prepare_mesh};
+use crate::output::{display, to_stdout};
+use crate::progress::{self, note};
 
 /// Which pipeline runs.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -53,14 +59,20 @@ pub enum StatsFormat {
 /// Arguments of `crestline extract`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
-    pub mesh: Option<PathBuf>,
+    /// Mesh files (OBJ, PLY, OFF, STL) or folders of them, or `-` for standard input.
+    /// Several files or a folder run as a batch: in parallel, one output each in the `-o`
+    /// folder, a summary at the end. Without any, standard input is read when it is not a
+    /// terminal, and the built-in example is used when it is.
+    pub meshes: Vec<PathBuf>,
     #[command(flatten)]
     pub orient: OrientArgs,
-    /// Output file for the lines. Default: `<mesh name>-lines.obj` in the current folder.
+    /// Output: a file, `-` for standard output, or a folder (an existing one, or a path
+    /// ending in `/`; a batch always writes to a folder, created if needed). Default:
+    /// `<mesh name>-lines.<format>` in the current folder.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Read the mesh as this format instead of guessing from the extension.
+    /// Read the meshes as this format instead of guessing from the extension (needed for
+    /// standard input).
     #[arg(long, value_enum)]
     pub input_format: Option<FormatArg>,
     /// Output format (default: from the output's extension, else OBJ).
@@ -69,36 +81,39 @@ pub struct Args {
     /// The method.
     #[arg(long, value_enum, default_value = "hpw")]
     pub method: MethodArg,
-    /// Extremality smoothing steps (default 2 for HPW and YBS; 0 turns it off, which for
-    /// YBS is the method as published).
+    /// Extremality smoothing steps, HPW and YBS (default 2; 0 turns it off, which for YBS
+    /// is the method as published).
     #[arg(long)]
     pub smooth_steps: Option<usize>,
-    /// Extremality smoothing step size, relative to the squared mean edge length (default 1).
-    #[arg(long)]
+    /// Extremality smoothing step size, relative to the squared mean edge length, > 0
+    /// (HPW and YBS; default 1).
+    #[arg(long, value_parser = positive)]
     pub smooth_time: Option<f64>,
-    /// Crease-aware smoothing: damp the smoothing across edges where the curvature jumps by
-    /// about this dihedral angle, in degrees (default 17; 0 gives HPW's plain smoothing).
-    #[arg(long, value_name = "DEGREES")]
+    /// Crease-aware smoothing (HPW and YBS): damp the smoothing across edges where the
+    /// curvature jumps by about this dihedral angle, in degrees, 0 to 180 (default 17; 0 gives
+    /// HPW's plain smoothing).
+    #[arg(long, value_name = "DEGREES", value_parser = degrees)]
     pub crease_angle: Option<f64>,
     /// Sharp creases: `auto` (default: edges above the gap in the histogram of dihedral
     /// angles; none when there is no gap, as on scans), `off`, or a dihedral angle in degrees.
     #[arg(long, value_name = "auto|off|DEGREES")]
     pub creases: Option<String>,
-    /// Weight of the neighbourhood in the principal directions of the shape operator (HPW;
-    /// default 0.5; 0 gives the paper's operator, whose directions are arbitrary on flat faces).
-    #[arg(long, value_name = "LAMBDA")]
+    /// Weight of the neighbourhood in the principal directions of the shape operator, >= 0
+    /// (estimator shape-operator only; default 0.5; 0 gives the paper's operator, whose
+    /// directions are arbitrary on flat faces).
+    #[arg(long, value_name = "LAMBDA", value_parser = non_negative)]
     pub direction_support: Option<f64>,
     /// Strength threshold, or `auto` to pick it from the knee of the sorted strengths.
     /// HPW: the strength T of YBS eq. 5, default 1. YBS: default auto (the knee of the
     /// strengths above T = 1; 1 when there is none). Saliency: the saliency, default auto.
     #[arg(long)]
     pub threshold: Option<String>,
-    /// Minimum line length as a fraction of the bounding-box diagonal (default 0.01).
-    #[arg(long)]
+    /// Minimum line length as a fraction of the bounding-box diagonal, >= 0 (default 0.01).
+    #[arg(long, value_parser = non_negative)]
     pub min_length: Option<f64>,
-    /// Spatial fairing: largest displacement as a fraction of the bounding-box diagonal
-    /// (for example 0.002). Off by default.
-    #[arg(long)]
+    /// Spatial fairing: largest displacement as a fraction of the bounding-box diagonal,
+    /// >= 0 (for example 0.002). Off by default.
+    #[arg(long, value_parser = non_negative)]
     pub fair: Option<f64>,
     /// Surface pre-smoothing steps (implicit mean-curvature flow). Off by default.
     #[arg(long)]
@@ -106,12 +121,13 @@ pub struct Args {
     /// Curvature estimator (default: jet-fit for hpw and ybs, cubic-fit for saliency).
     #[arg(long, value_enum)]
     pub estimator: Option<EstimatorArg>,
-    /// Radius of the jet fit's disc, in sample spacings (default 2.5).
-    #[arg(long)]
+    /// Radius of the jet fit's disc, in sample spacings, > 0 (estimator jet-fit only;
+    /// default 2.5).
+    #[arg(long, value_parser = positive)]
     pub radius: Option<f64>,
-    /// Rings of YBS's cubic fit (1 to 4); selects the cubic-fit estimator unless
-    /// `--estimator` says otherwise.
-    #[arg(long)]
+    /// Rings of YBS's cubic fit, 1 to 8 (the paper uses 1 to 4); selects the cubic-fit
+    /// estimator.
+    #[arg(long, value_parser = rings)]
     pub rings: Option<usize>,
     /// Per-vertex diffusion factors for inhomogeneous smoothing: a text file with one number
     /// per vertex (whitespace separated, `#` comments).
@@ -123,10 +139,11 @@ pub struct Args {
     /// A box `x0,y0,z0,x1,y1,z1,factor` scaling the smoothing inside it (repeatable).
     #[arg(long = "mask-box", value_name = "X0,Y0,Z0,X1,Y1,Z1,F")]
     pub mask_boxes: Vec<String>,
-    /// Disable YBS gap jumping.
+    /// Disable gap jumping (YBS only).
     #[arg(long)]
     pub no_gaps: bool,
-    /// Print statistics: triangles, singular triangles, lines, length, time per stage.
+    /// Print statistics: triangles, singular triangles, lines, length, time per stage (a
+    /// batch: one row, or one JSON object, per file).
     #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "text")]
     pub stats: Option<StatsFormat>,
     /// Also write a picture of the mesh and lines (PNG).
@@ -138,39 +155,46 @@ pub struct Args {
     /// Also write a self-contained interactive viewer (HTML, WebGL).
     #[arg(long, value_name = "VIEW.html")]
     pub html: Option<PathBuf>,
-    /// Do not show progress.
-    #[arg(short, long)]
-    pub quiet: bool,
 }
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
+    check_method_options(&args)?;
+    let is_batch = args.meshes.len() > 1 || args.meshes.iter().any(|p| p.is_dir());
+    if is_batch {
+        return batch::run(&args);
+    }
+    let input = args.meshes.first().map(PathBuf::as_path);
+    let output = output_path(&args, input)?;
+    if is_dash(&output) && args.stats == Some(StatsFormat::Json) {
+        bail!("--stats=json and -o - both write to standard output: choose one");
+    }
     let clock = Instant::now();
-    let (mesh, name) = load_mesh(args.mesh.as_ref(), args.input_format)?;
+    let (mesh, name) = progress::step("reading", || load_mesh(input, args.input_format))?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let load = clock.elapsed();
     let options = options_from_args(&args, &mesh)?;
-    let extraction = run_with_progress(&mesh, &options, args.quiet)?;
+    let extraction = run_with_progress(&mesh, &options, progress::quiet())?;
 
-    let output = args
-        .output
-        .clone()
-        .unwrap_or_else(|| default_output(args.mesh.as_deref()));
-    let format = args.format.map(|f| match f {
-        LinesFormatArg::Obj => LinesFormat::Obj,
-        LinesFormatArg::Ply => LinesFormat::Ply,
-        LinesFormatArg::Json => LinesFormat::Json,
-    });
-    let format = format
-        .or_else(|| LinesFormat::from_path(&output))
-        .unwrap_or(LinesFormat::Obj);
+    let format = lines_format(&args, &output);
     let clock = Instant::now();
-    write_lines(
-        &output,
-        &extraction.lines,
-        Some(format),
-        PlyEncoding::BinaryLittleEndian,
-    )?;
+    if is_dash(&output) {
+        to_stdout(|out| {
+            write_lines_to(
+                out,
+                &extraction.lines,
+                format,
+                PlyEncoding::BinaryLittleEndian,
+            )
+        })?;
+    } else {
+        write_lines(
+            &output,
+            &extraction.lines,
+            Some(format),
+            PlyEncoding::BinaryLittleEndian,
+        )?;
+    }
     let io = IoTimes {
         load,
         write: clock.elapsed(),
@@ -184,21 +208,19 @@ pub fn run(args: Args) -> Result<()> {
     ] {
         if let Some(path) = path {
             write(path, &mesh, Some(&extraction.lines), None, &picture_options)?;
-            if !args.quiet {
-                eprintln!("wrote {}", path.display());
-            }
+            note!("wrote {}", path.display());
         }
     }
 
     let s = &extraction.stats;
-    if !args.quiet {
+    if !progress::quiet() {
         eprintln!(
             "{name}: {} lines ({} ridges, {} valleys), total length {:.4} -> {}",
             s.lines,
             s.ridges,
             s.valleys,
             s.total_length,
-            output.display()
+            display(&output)
         );
         if s.creases > 0 {
             eprintln!(
@@ -241,14 +263,126 @@ type PictureWriter = fn(
     &crestline::render::RenderOptions,
 ) -> crestline::Result<()>;
 
-/// Turns the arguments into the library's options.
-pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> {
-    let method = match args.method {
+/// The format the lines are written in: `--format`, else the output's extension, else OBJ.
+pub fn lines_format(args: &Args, output: &Path) -> LinesFormat {
+    let format = args.format.map(|f| match f {
+        LinesFormatArg::Obj => LinesFormat::Obj,
+        LinesFormatArg::Ply => LinesFormat::Ply,
+        LinesFormatArg::Json => LinesFormat::Json,
+    });
+    format
+        .or_else(|| LinesFormat::from_path(output))
+        .unwrap_or(LinesFormat::Obj)
+}
+
+/// Where the lines of one mesh go: `-o` (a file, `-`, or a folder to put the default name
+/// in), else the default name in the current folder.
+fn output_path(args: &Args, input: Option<&Path>) -> Result<PathBuf> {
+    match &args.output {
+        Some(o) if o.is_dir() || o.as_os_str().to_string_lossy().ends_with('/') => {
+            std::fs::create_dir_all(o).with_context(|| format!("cannot create {}", o.display()))?;
+            Ok(o.join(default_output(input, args)))
+        }
+        Some(o) => Ok(o.clone()),
+        None => Ok(default_output(input, args)),
+    }
+}
+
+/// The method the arguments select.
+fn method(args: &Args) -> Method {
+    match args.method {
         MethodArg::Hpw => Method::Hpw,
         MethodArg::Ybs => Method::Ybs,
         MethodArg::Saliency => Method::Saliency,
+    }
+}
+
+/// Refuses options that the chosen method or estimator would not use, before any work.
+fn check_method_options(args: &Args) -> Result<()> {
+    let method = method(args);
+    let defaults = ExtractOptions::for_method(method);
+    let estimator = match (args.estimator, args.rings) {
+        (Some(e), _) => e.into(),
+        (None, Some(_)) => Estimator::CubicFit,
+        (None, None) => defaults.curvature.estimator,
     };
-    let mut o = ExtractOptions::for_method(method);
+    let method_name = format!("{:?}", args.method).to_lowercase();
+    let mut unused: Vec<String> = Vec::new();
+    if args.no_gaps && method != Method::Ybs {
+        unused.push("--no-gaps (gap jumping is part of --method ybs only)".into());
+    }
+    let estimator_name = |e: Estimator| match e {
+        Estimator::ShapeOperator => "shape-operator",
+        Estimator::CubicFit => "cubic-fit",
+        Estimator::JetFit => "jet-fit",
+    };
+    for (given, flag, needs) in [
+        (args.radius.is_some(), "--radius", Estimator::JetFit),
+        (args.rings.is_some(), "--rings", Estimator::CubicFit),
+        (
+            args.direction_support.is_some(),
+            "--direction-support",
+            Estimator::ShapeOperator,
+        ),
+    ] {
+        if given && estimator != needs {
+            unused.push(format!(
+                "{flag} (it applies to the {} estimator; this run uses {})",
+                estimator_name(needs),
+                estimator_name(estimator)
+            ));
+        }
+    }
+    if !unused.is_empty() {
+        bail!(
+            "options that --method {method_name} would not use: {}",
+            unused.join("; ")
+        );
+    }
+    Ok(())
+}
+
+/// Parses a number > 0.
+pub fn positive(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("expected a number > 0, got '{s}'")),
+    }
+}
+
+/// Parses a number >= 0.
+fn non_negative(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!("expected a number >= 0, got '{s}'")),
+    }
+}
+
+/// Parses an angle in degrees, 0 to 180.
+fn degrees(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if (0.0..=180.0).contains(&x) => Ok(x),
+        _ => Err(format!(
+            "expected an angle in degrees from 0 to 180, got '{s}'"
+        )),
+    }
+}
+
+/// Parses the rings of the cubic fit, 1 to [`MAX_RINGS`] (the library's limit).
+pub fn rings(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(k) if (1..=MAX_RINGS).contains(&k) => Ok(k),
+        _ => Err(format!(
+            "expected a whole number of rings from 1 to {MAX_RINGS}, got '{s}'"
+        )),
+    }
+}
+
+/// Turns the arguments into the library's options.
+pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> {
+    let mut o = ExtractOptions::for_method(method(args));
+    // Every mesh is oriented as it is loaded (`prepare_mesh`), as for the other commands.
+    o.orient_outward = false;
     if let Some(n) = args.smooth_steps {
         o.smoothing.steps = n;
         o.smooth_only_noisy = false;
@@ -263,9 +397,16 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
         Some("auto") => o.creases.angle = CreaseAngle::Auto,
         Some("off") => o.creases.angle = CreaseAngle::Off,
         Some(x) => {
-            let degrees: f64 = x.parse().with_context(|| {
-                format!("--creases takes `auto`, `off` or an angle in degrees, got `{x}`")
-            })?;
+            let degrees = x
+                .parse::<f64>()
+                .ok()
+                .filter(|d| *d > 0.0 && *d < 180.0)
+                .with_context(|| {
+                    format!(
+                        "--creases takes `auto`, `off` or an angle in degrees between 0 and \
+                         180, got `{x}`"
+                    )
+                })?;
             o.creases.angle = CreaseAngle::Degrees(degrees);
         }
         None => {}
@@ -277,7 +418,9 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
         Some("auto") => o.auto_threshold = true,
         Some(x) => {
             o.filter.threshold = x
-                .parse()
+                .parse::<f64>()
+                .ok()
+                .filter(|t| t.is_finite())
                 .with_context(|| format!("--threshold takes a number or `auto`, got `{x}`"))?;
             o.auto_threshold = false;
         }
@@ -394,12 +537,19 @@ fn read_factors(path: &Path, n: usize) -> Result<Vec<f64>> {
     Ok(values)
 }
 
-fn default_output(mesh: Option<&Path>) -> PathBuf {
-    let stem = mesh
-        .and_then(|p| p.file_stem())
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "example".into());
-    PathBuf::from(format!("{stem}-lines.obj"))
+/// `<mesh name>-lines.<format>` (`example` for the built-in example, `stdin` for standard
+/// input).
+pub fn default_output(mesh: Option<&Path>, args: &Args) -> PathBuf {
+    let stem = match mesh {
+        Some(p) if is_dash(p) => "stdin".into(),
+        Some(p) => p
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "mesh".into()),
+        None => "example".into(),
+    };
+    let extension = lines_format(args, Path::new("")).extension();
+    PathBuf::from(format!("{stem}-lines.{extension}"))
 }
 
 /// Runs the extraction with a spinner per stage on stderr (unless quiet).
@@ -409,19 +559,12 @@ pub fn run_with_progress(
     quiet: bool,
 ) -> Result<Extraction> {
     let mut spinner: Option<ProgressBar> = None;
-    let style = ProgressStyle::with_template("{spinner} {msg} {elapsed}")
-        .unwrap_or_else(|_| ProgressStyle::default_spinner());
     let mut progress = |stage: Stage, done: Option<Duration>| {
         if quiet {
             return;
         }
         match done {
-            None => {
-                let bar = ProgressBar::new_spinner().with_style(style.clone());
-                bar.set_message(stage.name());
-                bar.enable_steady_tick(Duration::from_millis(100));
-                spinner = Some(bar);
-            }
+            None => spinner = Some(progress::spinner(stage.name())),
             Some(t) => {
                 if let Some(bar) = spinner.take() {
                     bar.finish_and_clear();
@@ -436,9 +579,11 @@ pub fn run_with_progress(
 }
 
 /// Wall times of reading the mesh and writing the lines (pictures excluded).
-struct IoTimes {
-    load: Duration,
-    write: Duration,
+pub struct IoTimes {
+    /// Reading the mesh.
+    pub load: Duration,
+    /// Writing the lines.
+    pub write: Duration,
 }
 
 fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
@@ -499,7 +644,8 @@ fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
     out
 }
 
-fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::Value {
+/// The figures of `--stats=json`.
+pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::Value {
     let s = &x.stats;
     let mut seconds: serde_json::Map<String, serde_json::Value> = s
         .stage_times

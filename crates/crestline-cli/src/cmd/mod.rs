@@ -1,5 +1,6 @@
 //! One module per subcommand.
 
+pub mod batch;
 pub mod curvature;
 pub mod distance;
 pub mod extract;

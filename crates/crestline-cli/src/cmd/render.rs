@@ -1,19 +1,40 @@
-//! `crestline render`: a PNG or SVG picture of a mesh, its feature lines and a field.
+//! `crestline render`: a PNG or SVG picture (or the HTML viewer) of a mesh, its feature lines
+//! and a field.
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
+use clap::ValueEnum;
+use crestline::render::{PictureFormat, render_html, render_png, render_svg, write_picture};
 
+use crate::input::is_dash;
+use crate::output::{display, to_stdout};
+use crate::progress::{self, note};
 use crate::scene::{SceneArgs, parse_size};
+
+/// Picture formats.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum PictureFormatArg {
+    /// Raster image.
+    Png,
+    /// Raster mesh under vector lines.
+    Svg,
+    /// The interactive WebGL viewer.
+    Html,
+}
 
 /// Arguments of `crestline render`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Output picture; the extension chooses the format (.png, .svg, or .html for the viewer).
+    /// Output picture, or `-` for standard output; the extension chooses the format (.png,
+    /// .svg, or .html for the viewer) unless --format is given.
     #[arg(short, long, value_name = "PICTURE")]
     pub output: PathBuf,
+    /// Output format (needed for standard output).
+    #[arg(long, value_enum)]
+    pub format: Option<PictureFormatArg>,
     /// Image size in pixels, W or WxH [default: 1024x1024].
     #[arg(long, value_name = "W[xH]", value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
@@ -25,7 +46,15 @@ pub struct Args {
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
     // Refuse bad arguments before the (possibly long) loading.
-    crestline::render::PictureFormat::from_path(&args.output)?;
+    let format = match (args.format, is_dash(&args.output)) {
+        (Some(PictureFormatArg::Png), _) => PictureFormat::Png,
+        (Some(PictureFormatArg::Svg), _) => PictureFormat::Svg,
+        (Some(PictureFormatArg::Html), _) => PictureFormat::Html,
+        (None, true) => {
+            bail!("writing the picture to standard output (-o -): give its format with --format")
+        }
+        (None, false) => PictureFormat::from_path(&args.output)?,
+    };
     let mut opts = args.scene.options();
     if let Some((w, h)) = args.size {
         opts = opts.with_size(w, h);
@@ -33,14 +62,28 @@ pub fn run(args: Args) -> Result<()> {
     opts.legend = !args.no_legend;
     opts.validate()?;
     let scene = args.scene.load()?;
-    crestline::render::write_picture(
-        &args.output,
-        &scene.mesh,
-        scene.lines.as_ref(),
-        scene.field.as_deref(),
-        &opts,
-    )
-    .with_context(|| format!("cannot render {}", args.output.display()))?;
-    eprintln!("wrote {}", args.output.display());
+    let (mesh, lines, field) = (&scene.mesh, scene.lines.as_ref(), scene.field.as_deref());
+    let picture = || -> Result<Vec<u8>> {
+        Ok(match format {
+            PictureFormat::Png => render_png(mesh, lines, field, &opts)?,
+            PictureFormat::Svg => render_svg(mesh, lines, field, &opts)?.into_bytes(),
+            PictureFormat::Html => render_html(mesh, lines, field, &opts)?.into_bytes(),
+        })
+    };
+    progress::step("drawing", || -> Result<()> {
+        if is_dash(&args.output) {
+            let bytes = picture()?;
+            to_stdout(|out| out.write_all(&bytes))
+        } else if args.format.is_some() {
+            // The format as given, whatever the extension.
+            let bytes = picture()?;
+            std::fs::write(&args.output, bytes)
+                .with_context(|| format!("cannot write {}", args.output.display()))
+        } else {
+            write_picture(&args.output, mesh, lines, field, &opts)
+                .with_context(|| format!("cannot render {}", args.output.display()))
+        }
+    })?;
+    note!("wrote {}", display(&args.output));
     Ok(())
 }

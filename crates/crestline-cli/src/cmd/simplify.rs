@@ -2,28 +2,31 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
-use crestline::io::{Format, WriteOptions, write_mesh};
+use anyhow::{Result, bail};
+use crestline::io::{WriteOptions, write_mesh, write_mesh_to};
 use crestline::lines::FeatureLines;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
 
-use crate::input::{FormatArg, OrientArgs, load_lines, load_mesh, prepare_mesh};
+use crate::input::{FormatArg, MeshArgs, OrientArgs, is_dash, load_lines, prepare_mesh};
+use crate::output::{display, mesh_format, to_stdout};
+use crate::progress::{self, note};
 
 /// Arguments of `crestline simplify`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
-    pub mesh: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: MeshArgs,
     #[command(flatten)]
     pub orient: OrientArgs,
-    /// Read the mesh as this format instead of guessing from the extension.
-    #[arg(long, value_enum)]
-    pub format: Option<FormatArg>,
-    /// Output mesh; the format follows the extension (.obj, .ply, .off, .stl).
+    /// Output mesh, or `-` for standard output; the format follows the extension (.obj,
+    /// .ply, .off, .stl) unless --format is given.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Output format (needed for standard output).
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
     /// Keep this fraction of the triangles, in (0, 1]. Default: 0.1.
-    #[arg(long, conflicts_with = "faces")]
+    #[arg(long, conflicts_with = "faces", value_parser = ratio)]
     pub ratio: Option<f64>,
     /// Keep this many triangles.
     #[arg(long)]
@@ -35,9 +38,9 @@ pub struct Args {
     /// Regularisation epsilon of eq. 7. Default: 0.1.
     #[arg(long)]
     pub eps: Option<f64>,
-    /// Feature lines as an OBJ file with `l` polylines. Without it they are extracted from
-    /// the mesh with the default method (as `crestline extract` does).
-    #[arg(long)]
+    /// Feature lines as `crestline extract` writes them (OBJ, PLY or JSON, by extension).
+    /// Without it they are extracted from the mesh with the default method.
+    #[arg(long, value_name = "LINES.{obj,ply,json}")]
     pub lines: Option<PathBuf>,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
@@ -46,7 +49,10 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    let output_format = Format::resolve(&args.output, None)?;
+    if is_dash(&args.output) && args.json {
+        bail!("--json and -o - both write to standard output: choose one");
+    }
+    let output_format = mesh_format(&args.output, args.format)?;
     let mut options = SimplifyOptions::default();
     if let Some(r) = args.ratio {
         options.target = Target::Ratio(r);
@@ -60,25 +66,36 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(eps) = args.eps {
         options.eps = eps;
     }
-    let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
+    let (mesh, name) = progress::step("reading", || args.input.load())?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let lines = if options.eta == 0.0 && args.lines.is_none() {
         FeatureLines::default()
     } else {
-        load_lines(args.lines.as_ref(), &mesh)?
+        progress::step("feature lines", || load_lines(args.lines.as_deref(), &mesh))?
     };
-    let result = simplify(&mesh, &lines, &options)?;
-    write_mesh(
-        &args.output,
-        &result.mesh,
-        output_format,
-        &WriteOptions::default(),
+    let result = progress::step(
+        format!("simplifying {} triangles", mesh.num_faces()),
+        || simplify(&mesh, &lines, &options),
     )?;
+    progress::step("writing", || -> Result<()> {
+        if is_dash(&args.output) {
+            to_stdout(|out| {
+                write_mesh_to(out, &result.mesh, output_format, &WriteOptions::default())
+            })
+        } else {
+            Ok(write_mesh(
+                &args.output,
+                &result.mesh,
+                output_format,
+                &WriteOptions::default(),
+            )?)
+        }
+    })?;
     let r = &result.rejected;
     if args.json {
         let report = serde_json::json!({
             "input": name,
-            "output": args.output.display().to_string(),
+            "output": display(&args.output),
             "lines": lines.lines.len(),
             "faces_before": result.faces_before,
             "faces_after": result.faces_after,
@@ -97,8 +114,9 @@ pub fn run(args: Args) -> Result<()> {
             "creases": lines.lines.iter().filter(|l| l.crease).count(),
         });
         println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
-        println!(
+    } else if !progress::quiet() {
+        // On stderr: standard output may carry the mesh.
+        eprintln!(
             "{name}: {} -> {} triangles (target {}{}), {} collapses, {} lines",
             result.faces_before,
             result.faces_after,
@@ -111,12 +129,20 @@ pub fn run(args: Args) -> Result<()> {
             result.collapses,
             lines.lines.len()
         );
-        println!(
+        eprintln!(
             "refused candidates: {} link condition, {} flip, {} degenerate, {} boundary, \
              {} non-manifold, {} on creases (kept as they are)",
             r.link, r.flip, r.degenerate, r.boundary, r.non_manifold, r.fixed
         );
-        println!("written to {}", args.output.display());
+        note!("written to {}", display(&args.output));
     }
     Ok(())
+}
+
+/// Parses the kept fraction of the triangles, in (0, 1] (as the library checks it).
+fn ratio(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(r) if r > 0.0 && r <= 1.0 => Ok(r),
+        _ => Err(format!("target ratio must be in (0, 1], got {s}")),
+    }
 }

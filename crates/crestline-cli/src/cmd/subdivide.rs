@@ -3,22 +3,25 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
-use crestline::io::{Format, WriteOptions, write_mesh};
+use crestline::io::{WriteOptions, write_mesh, write_mesh_to};
 use crestline::mesh::{SubdivideOptions, loop_subdivide};
 
-use crate::input::{FormatArg, load_mesh};
+use crate::input::{FormatArg, MeshArgs, is_dash};
+use crate::output::{display, mesh_format, to_stdout};
+use crate::progress::{self, note};
 
 /// Arguments of `crestline subdivide`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Mesh file (OBJ, PLY, OFF, STL). Without it, a built-in example is used.
-    pub mesh: Option<PathBuf>,
-    /// Read the mesh as this format instead of guessing from the extension.
-    #[arg(long, value_enum)]
-    pub format: Option<FormatArg>,
-    /// Output mesh; the format follows the extension (.obj, .ply, .off, .stl).
+    #[command(flatten)]
+    pub input: MeshArgs,
+    /// Output mesh, or `-` for standard output; the format follows the extension (.obj,
+    /// .ply, .off, .stl) unless --format is given.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Output format (needed for standard output).
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
     /// Subdivision levels; each multiplies the number of faces by 4. With 0 the mesh is only
     /// converted (degenerate faces dropped). Default: 1.
     #[arg(long)]
@@ -31,7 +34,7 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    let output_format = Format::resolve(&args.output, None)?;
+    let output_format = mesh_format(&args.output, args.format)?;
     let mut options = SubdivideOptions::default();
     if let Some(levels) = args.levels {
         options.levels = levels;
@@ -39,15 +42,24 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(angle) = args.corner_angle {
         options.corner_angle = angle;
     }
-    let (mesh, name) = load_mesh(args.mesh.as_ref(), args.format)?;
-    let result = loop_subdivide(&mesh, &options)?;
-    write_mesh(
-        &args.output,
-        &result,
-        output_format,
-        &WriteOptions::default(),
+    let (mesh, name) = progress::step("reading", || args.input.load())?;
+    let result = progress::step(
+        format!("subdividing {} triangles", mesh.num_faces()),
+        || loop_subdivide(&mesh, &options),
     )?;
-    println!(
+    progress::step("writing", || -> Result<()> {
+        if is_dash(&args.output) {
+            to_stdout(|out| write_mesh_to(out, &result, output_format, &WriteOptions::default()))
+        } else {
+            Ok(write_mesh(
+                &args.output,
+                &result,
+                output_format,
+                &WriteOptions::default(),
+            )?)
+        }
+    })?;
+    note!(
         "{name}: {} faces, {} vertices -> {} faces, {} vertices ({} level{}), written to {}",
         mesh.num_faces(),
         mesh.num_vertices(),
@@ -55,7 +67,7 @@ pub fn run(args: Args) -> Result<()> {
         result.num_vertices(),
         options.levels,
         if options.levels == 1 { "" } else { "s" },
-        args.output.display()
+        display(&args.output)
     );
     Ok(())
 }

@@ -5,6 +5,9 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 
+use crate::input::is_dash;
+use crate::output::{display, to_stdout};
+use crate::progress::note;
 use crate::scene::SceneArgs;
 
 /// Arguments of `crestline view`.
@@ -12,7 +15,7 @@ use crate::scene::SceneArgs;
 pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Output HTML file.
+    /// Output HTML file, or `-` for standard output.
     #[arg(short, long, value_name = "VIEW.html")]
     pub output: PathBuf,
 }
@@ -22,14 +25,14 @@ pub fn run(args: Args) -> Result<()> {
     let opts = args.scene.options();
     opts.validate()?;
     let scene = args.scene.load()?;
-    crestline::render::write_html(
-        &args.output,
-        &scene.mesh,
-        scene.lines.as_ref(),
-        scene.field.as_deref(),
-        &opts,
-    )
-    .with_context(|| format!("cannot write {}", args.output.display()))?;
-    eprintln!("wrote {}", args.output.display());
+    let (mesh, lines, field) = (&scene.mesh, scene.lines.as_ref(), scene.field.as_deref());
+    if is_dash(&args.output) {
+        let html = crestline::render::render_html(mesh, lines, field, &opts)?;
+        to_stdout(|out| out.write_all(html.as_bytes()))?;
+    } else {
+        crestline::render::write_html(&args.output, mesh, lines, field, &opts)
+            .with_context(|| format!("cannot write {}", args.output.display()))?;
+    }
+    note!("wrote {}", display(&args.output));
     Ok(())
 }

@@ -78,7 +78,8 @@ def read_mesh(
     """
 
 def read_lines(path: PathLike) -> Lines:
-    """Reads feature lines from an OBJ file of ``l`` polylines (group ``valleys``: valleys)."""
+    """Reads feature lines from an OBJ, PLY or JSON file as ``Lines.write`` and ``crestline extract``
+    write them (format by extension), with kinds and strengths."""
 
 def extract(
     vertices: npt.ArrayLike,

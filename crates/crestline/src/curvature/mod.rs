@@ -164,6 +164,19 @@ impl Default for CurvatureOptions {
 /// Principal curvatures, directions, extremalities and normals of every vertex of `mesh`,
 /// by the estimator `options` selects.
 ///
+/// ```
+/// use crestline::curvature::{CurvatureOptions, Estimator, estimate};
+///
+/// # fn main() -> crestline::Result<()> {
+/// // A sphere of radius 2 bends by k = 1/2 in every direction.
+/// let sphere = crestline::shapes::icosphere(2.0, 4);
+/// let options = CurvatureOptions::default().with_estimator(Estimator::JetFit);
+/// let c = estimate(&sphere, &options)?;
+/// assert!(c.k_max.iter().chain(&c.k_min).all(|k| (k - 0.5).abs() < 0.01));
+/// # Ok(())
+/// # }
+/// ```
+///
 /// # Errors
 /// [`crate::Error::InvalidInput`] for options out of range (see [`CubicFitOptions`]; a
 /// negative or non-finite [`ShapeOperatorOptions::direction_support`]). A mesh

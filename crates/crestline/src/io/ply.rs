@@ -23,6 +23,8 @@
 //! Limits: 64-bit integer types (not in the format's definition) are not accepted; list
 //! properties other than the face indices must have integer counts.
 
+pub(super) mod edges;
+
 use std::borrow::Cow;
 use std::fs::File;
 use std::io::{BufWriter, Write};

@@ -160,6 +160,21 @@ fn tetrahedron_volume(mesh: &TriMesh, centre: Vec3, triangle: &[u32; 3]) -> f64 
 /// so that normals point outward. Returns the mesh unchanged (not rebuilt) when nothing faces
 /// inward, and the report either way.
 ///
+/// ```
+/// use crestline::mesh::{orient_outward, signed_volume};
+///
+/// # fn main() -> crestline::Result<()> {
+/// let sphere = crestline::shapes::icosphere(1.0, 2);
+/// let faces = sphere.faces().iter().map(|t| [t[0], t[2], t[1]]).collect();
+/// let inward = crestline::TriMesh::new(sphere.positions().to_vec(), faces)?;
+/// assert!(signed_volume(&inward) < 0.0);
+/// let (outward, report) = orient_outward(inward)?;
+/// assert_eq!((report.closed, report.inward), (1, 1));
+/// assert!(signed_volume(&outward) > 0.0);
+/// # Ok(())
+/// # }
+/// ```
+///
 /// # Errors
 /// None at present (reversing triangles keeps the connectivity as it is); the `Result` leaves
 /// room for meshes that cannot be oriented.

@@ -76,6 +76,17 @@ const MAX_FACES: usize = (u32::MAX >> 2) as usize;
 
 /// Applies [`SubdivideOptions::levels`] levels of Loop subdivision to `mesh`.
 ///
+/// ```
+/// use crestline::mesh::{SubdivideOptions, loop_subdivide};
+///
+/// # fn main() -> crestline::Result<()> {
+/// let coarse = crestline::shapes::icosphere(1.0, 1);
+/// let fine = loop_subdivide(&coarse, &SubdivideOptions::default())?;
+/// assert_eq!(fine.num_faces(), 4 * coarse.num_faces());
+/// # Ok(())
+/// # }
+/// ```
+///
 /// # Errors
 /// [`Error::InvalidInput`] when `corner_angle` is not in [0, 180] or when the result would
 /// have more faces or vertices than crestline indexes (about 10^9 faces, 4·10^9 vertices);

@@ -370,6 +370,17 @@ pub fn render_image(
 
 /// Renders as [`render_image`] and encodes the picture as PNG.
 ///
+/// ```
+/// use crestline::render::{RenderOptions, render_png};
+///
+/// # fn main() -> crestline::Result<()> {
+/// let (mesh, creases) = crestline::shapes::pillow_box(1.0, 0.25, 8);
+/// let png = render_png(&mesh, Some(&creases), None, &RenderOptions::default().with_size(64, 48))?;
+/// assert!(png.starts_with(b"\x89PNG"));
+/// # Ok(())
+/// # }
+/// ```
+///
 /// # Errors
 /// As [`render_frame`].
 pub fn render_png(

@@ -1,0 +1,611 @@
+//! The command-line tool composes (issue 24): every lines file `extract` writes is read back by
+//! every command taking `--lines`; standard input and output; batches; orientation decided in
+//! one place; one meaning per flag with ranges checked up front; progress flags everywhere.
+
+// Test code: stopping loudly on the first surprise is the point.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+use crestline::io::lines::read_lines;
+use crestline::io::{Format, WriteOptions, write_mesh};
+use crestline::lines::FeatureLines;
+
+const FANDISK: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/fandisk.obj");
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args(args)
+        .output()
+        .expect("the crestline binary runs")
+}
+
+/// Runs with `input` on standard input.
+fn run_with_stdin(args: &[&str], input: &[u8]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(input).unwrap();
+    child.wait_with_output().unwrap()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn ok(out: Output) -> Output {
+    assert!(out.status.success(), "failed: {}", stderr(&out));
+    assert!(!stderr(&out).contains("panicked"));
+    out
+}
+
+/// Checks that the run failed cleanly and returns its stderr.
+fn fails(out: Output) -> String {
+    let err = stderr(&out);
+    assert!(!out.status.success(), "should fail; stderr: {err}");
+    assert!(!err.contains("panicked"), "panicked: {err}");
+    err
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// The ellipsoid x²/9 + y²/4 + z² = 1 (1280 triangles), one closed ridge, as OBJ in `dir`;
+/// with `inward`, every triangle reversed.
+fn ellipsoid(dir: &Path, name: &str, inward: bool) -> PathBuf {
+    let mesh = crestline::shapes::ellipsoid(3.0, 2.0, 1.0, 3);
+    let mesh = if inward {
+        let faces = mesh.faces().iter().map(|t| [t[0], t[2], t[1]]).collect();
+        crestline::TriMesh::new(mesh.positions().to_vec(), faces).unwrap()
+    } else {
+        mesh
+    };
+    let path = dir.join(name);
+    write_mesh(&path, &mesh, Format::Obj, &WriteOptions::default()).unwrap();
+    path
+}
+
+/// (kind name, points, strength) of every line, in a fixed order.
+fn summary(lines: &FeatureLines) -> Vec<(String, usize, u64)> {
+    let mut v: Vec<_> = lines
+        .lines
+        .iter()
+        .map(|l| {
+            (
+                l.kind_name().to_string(),
+                l.points.len(),
+                l.strength.to_bits(),
+            )
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn lines_in_every_format_read_back_by_every_command_that_takes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut pictures = Vec::new();
+    let mut read = Vec::new();
+    for ext in ["obj", "ply", "json"] {
+        let lines = d.join(format!("lines.{ext}"));
+        ok(run(&["extract", FANDISK, "-o", s(&lines), "-q"]));
+        read.push(summary(&read_lines(&lines, None).unwrap()));
+        let png = d.join(format!("{ext}.png"));
+        ok(run(&[
+            "render",
+            FANDISK,
+            "--lines",
+            s(&lines),
+            "-o",
+            s(&png),
+            "--size",
+            "256",
+            "-q",
+        ]));
+        pictures.push(std::fs::read(&png).unwrap());
+        // distance and simplify read the same lines: none unreached, same count.
+        let far = d.join(format!("{ext}-distance.ply"));
+        let out = ok(run(&[
+            "distance",
+            FANDISK,
+            "--lines",
+            s(&lines),
+            "-o",
+            s(&far),
+        ]));
+        let err = stderr(&out);
+        assert!(err.contains(" 0 vertices unreached"), "{ext}: {err}");
+        assert!(!err.contains("no --lines given"), "{ext}: {err}");
+        let small = d.join(format!("{ext}-small.obj"));
+        let out = ok(run(&[
+            "simplify",
+            FANDISK,
+            "--lines",
+            s(&lines),
+            "-o",
+            s(&small),
+            "--faces",
+            "6000",
+            "--json",
+        ]));
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(
+            report["lines"].as_u64().unwrap() as usize,
+            read[0].len(),
+            "{ext}"
+        );
+        assert!(
+            report["creases"].as_u64().unwrap() > 0,
+            "{ext}: crease kinds kept"
+        );
+    }
+    // Kinds (crease kinds included), point counts and strengths survive every format.
+    assert!(
+        read[0].iter().any(|l| l.0 == "crease-valley"),
+        "{:?}",
+        read[0]
+    );
+    assert!(read[0].iter().any(|l| l.2 != 0), "strengths kept");
+    assert_eq!(read[0], read[1], "OBJ and PLY");
+    assert_eq!(read[0], read[2], "OBJ and JSON");
+    // The same lines are drawn, and lines are drawn at all.
+    assert!(pictures[0] == pictures[1] && pictures[0] == pictures[2]);
+    let bare = d.join("bare.png");
+    ok(run(&[
+        "render",
+        FANDISK,
+        "-o",
+        s(&bare),
+        "--size",
+        "256",
+        "-q",
+    ]));
+    assert!(std::fs::read(&bare).unwrap() != pictures[0]);
+}
+
+#[test]
+fn a_file_that_holds_no_lines_is_an_error_not_no_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let hello = dir.path().join("hello.obj");
+    std::fs::write(&hello, "hello\n").unwrap();
+    let png = dir.path().join("x.png");
+    let err = fails(run(&[
+        "render",
+        FANDISK,
+        "--lines",
+        s(&hello),
+        "-o",
+        s(&png),
+    ]));
+    assert!(
+        err.contains("hello.obj: line 1: 'hello' is not an OBJ record"),
+        "{err}"
+    );
+    // A mesh is not a lines file either, nor is an unknown extension.
+    let err = fails(run(&["view", FANDISK, "--lines", FANDISK, "-o", s(&png)]));
+    assert!(err.contains("no polylines"), "{err}");
+    let txt = dir.path().join("lines.txt");
+    std::fs::write(&txt, "l 1 2\n").unwrap();
+    let out = dir.path().join("d.ply");
+    let err = fails(run(&[
+        "distance",
+        FANDISK,
+        "--lines",
+        s(&txt),
+        "-o",
+        s(&out),
+    ]));
+    assert!(err.contains("cannot tell the feature-line format"), "{err}");
+    // A mesh file holding just "hello" has no triangles: an error, not "0 lines".
+    let err = fails(run(&[
+        "extract",
+        s(&hello),
+        "-o",
+        s(&dir.path().join("l.obj")),
+    ]));
+    assert!(err.contains("hello.obj: no triangles"), "{err}");
+}
+
+#[test]
+fn standard_input_and_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = ellipsoid(dir.path(), "e.obj", false);
+    let bytes = std::fs::read(&mesh).unwrap();
+    // `-` reads standard input, `-o -` writes standard output, notes stay on stderr.
+    let out = ok(run_with_stdin(
+        &["extract", "-", "--input-format", "obj", "-o", "-"],
+        &bytes,
+    ));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.starts_with("# crestline feature lines: 1 ridges"),
+        "{text}"
+    );
+    assert!(!Path::new("-").exists());
+    // Without a mesh, data on standard input is read (not the built-in example).
+    let out = ok(run_with_stdin(
+        &[
+            "extract",
+            "--input-format",
+            "obj",
+            "-o",
+            "-",
+            "--format",
+            "json",
+        ],
+        &bytes,
+    ));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["ridges"], 1);
+    assert!(!stderr(&out).contains("built-in"), "{}", stderr(&out));
+    // Other commands too.
+    let out = ok(run_with_stdin(
+        &["info", "--input-format", "obj", "--json"],
+        &bytes,
+    ));
+    let info: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(info["faces"], 1280);
+    let out = ok(run_with_stdin(
+        &[
+            "subdivide",
+            "-",
+            "--input-format",
+            "obj",
+            "-o",
+            "-",
+            "--format",
+            "off",
+        ],
+        &bytes,
+    ));
+    assert!(out.stdout.starts_with(b"OFF\n"));
+    // Standard input without its format, and empty standard input, are clear errors.
+    let err = fails(run_with_stdin(&["extract", "-", "-o", "-"], &bytes));
+    assert!(err.contains("--input-format"), "{err}");
+    let err = fails(run_with_stdin(&["info", "--input-format", "obj"], b""));
+    assert!(err.contains("standard input is empty"), "{err}");
+    assert!(err.contains("not a terminal"), "{err}");
+    // A mesh written to standard output needs its format.
+    let err = fails(run(&["subdivide", s(&mesh), "-o", "-"]));
+    assert!(err.contains("--format"), "{err}");
+}
+
+#[test]
+fn the_built_in_example_only_when_standard_input_is_a_terminal() {
+    // `script` runs the command on a pseudo-terminal (util-linux; skipped where missing).
+    let command = format!("{} info", env!("CARGO_BIN_EXE_crestline"));
+    let out = match Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .stdin(Stdio::null())
+        .output()
+    {
+        Ok(out) if out.status.success() => out,
+        other => {
+            eprintln!("SKIPPED: no working `script` to give the command a terminal: {other:?}");
+            return;
+        }
+    };
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("using the built-in example"), "{text}");
+    assert!(text.contains("faces                  12946"), "{text}");
+    // Not a terminal (the tests' standard input): no example, standard input is read.
+    let err = fails(run(&["info"]));
+    assert!(
+        err.contains("standard input") && !err.contains("built-in example (fandisk"),
+        "{err}"
+    );
+}
+
+#[test]
+fn every_command_orients_the_mesh_as_extract_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let outward = ellipsoid(dir.path(), "out.obj", false);
+    let inward = ellipsoid(dir.path(), "in.obj", true);
+    // render and view colour the same field on both windings (k_max is positive on the
+    // ellipsoid only with outward normals).
+    let mut pictures = Vec::new();
+    for mesh in [&outward, &inward] {
+        let png = dir.path().join(format!("{}.png", pictures.len()));
+        let out = ok(run(&[
+            "render",
+            s(mesh),
+            "--field",
+            "k_max",
+            "-o",
+            s(&png),
+            "--size",
+            "200",
+        ]));
+        if mesh == &inward {
+            assert!(stderr(&out).contains("faced inward"), "{}", stderr(&out));
+        }
+        pictures.push(std::fs::read(&png).unwrap());
+    }
+    assert!(pictures[0] == pictures[1], "render does not orient");
+    let keep = dir.path().join("keep.png");
+    ok(run(&[
+        "render",
+        s(&inward),
+        "--field",
+        "k_max",
+        "-o",
+        s(&keep),
+        "--size",
+        "200",
+        "--keep-orientation",
+    ]));
+    assert!(std::fs::read(&keep).unwrap() != pictures[0]);
+}
+
+#[test]
+fn the_library_and_the_cli_find_the_same_ridges_and_valleys_on_the_inward_horse() {
+    let horse = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/horse.ply");
+    if !horse.exists() {
+        panic!("the shared meshes are missing: {}", horse.display());
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(run(&[
+        "extract",
+        s(&horse),
+        "-o",
+        s(&dir.path().join("l.obj")),
+        "--stats=json",
+        "-q",
+    ]));
+    let cli: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let mesh = crestline::io::read_mesh(&horse, None).unwrap();
+    let library = crestline::extract::extract(&mesh, &Default::default()).unwrap();
+    assert!(
+        library.stats.orientation.inward > 0,
+        "the horse faces inward"
+    );
+    assert_eq!(
+        (library.stats.ridges, library.stats.valleys),
+        (
+            cli["ridges"].as_u64().unwrap() as usize,
+            cli["valleys"].as_u64().unwrap() as usize
+        )
+    );
+    assert!(
+        library.stats.ridges > library.stats.valleys,
+        "{:?}",
+        library.stats
+    );
+}
+
+#[test]
+fn one_meaning_per_flag_and_ranges_checked_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = ellipsoid(dir.path(), "e.obj", false);
+    let named_txt = dir.path().join("e.txt");
+    std::fs::copy(&mesh, &named_txt).unwrap();
+    let o = dir.path().join("o.ply");
+    // --input-format is the input's format in every command that reads a mesh.
+    for args in [
+        vec!["info", s(&named_txt)],
+        vec!["curvature", s(&named_txt), "-o", s(&o)],
+        vec!["distance", s(&named_txt), "-o", s(&o)],
+        vec!["subdivide", s(&named_txt), "-o", s(&o)],
+        vec!["simplify", s(&named_txt), "-o", s(&o), "--eta", "0"],
+        vec![
+            "render",
+            s(&named_txt),
+            "-o",
+            s(&dir.path().join("p.png")),
+            "--size",
+            "64",
+        ],
+    ] {
+        let mut all = args.clone();
+        all.extend(["--input-format", "obj", "-q"]);
+        ok(run(&all));
+        // --format is an output format: it is no longer taken as the input's.
+        let mut all = args.clone();
+        all.extend(["--format", "obj"]);
+        if args[0] == "info" || args[0] == "curvature" || args[0] == "distance" {
+            fails(run(&all));
+        }
+    }
+    // --rings: the same range in the help and in the error, the library's.
+    let max = crestline::curvature::cubic_fit::MAX_RINGS;
+    let help = String::from_utf8(ok(run(&["extract", "--help"])).stdout).unwrap();
+    assert!(help.contains(&format!("1 to {max}")), "{help}");
+    let err = fails(run(&[
+        "extract",
+        s(&mesh),
+        "--method",
+        "ybs",
+        "--rings",
+        "9",
+    ]));
+    assert!(err.contains(&format!("from 1 to {max}")), "{err}");
+    let err = fails(run(&[
+        "curvature",
+        s(&mesh),
+        "-o",
+        s(&o),
+        "--estimator",
+        "cubic-fit",
+        "--rings",
+        "0",
+    ]));
+    assert!(err.contains(&format!("from 1 to {max}")), "{err}");
+    // Options the method does not use are refused.
+    for (args, flag) in [
+        (vec!["--method", "saliency", "--no-gaps"], "--no-gaps"),
+        (vec!["--method", "hpw", "--no-gaps"], "--no-gaps"),
+        (
+            vec!["--estimator", "shape-operator", "--radius", "3"],
+            "--radius",
+        ),
+        (vec!["--direction-support", "1"], "--direction-support"),
+    ] {
+        let mut all = vec!["extract", s(&mesh), "-o", s(&o)];
+        all.extend(&args);
+        let err = fails(run(&all));
+        assert!(
+            err.contains(flag) && err.contains("would not use"),
+            "{args:?}: {err}"
+        );
+    }
+    // simplify refuses a bad ratio before extracting anything.
+    let err = fails(run(&["simplify", s(&mesh), "-o", s(&o), "--ratio", "2"]));
+    assert!(
+        err.contains("(0, 1]") && !err.contains("extracting"),
+        "{err}"
+    );
+    // A missing file: the OS error once.
+    let err = fails(run(&["info", "/nonexistent/m.obj"]));
+    assert_eq!(err.matches("os error 2").count(), 1, "{err}");
+}
+
+#[test]
+fn a_batch_writes_one_file_per_mesh_and_reports_failures() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("meshes");
+    std::fs::create_dir(&inputs).unwrap();
+    ellipsoid(&inputs, "ellipsoid.obj", false);
+    ellipsoid(&inputs, "inward.obj", true);
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
+    std::fs::copy(shared.join("suzanne.obj"), inputs.join("suzanne.obj")).unwrap();
+    let out_dir = dir.path().join("out");
+    let out = ok(run(&[
+        "extract",
+        s(&inputs),
+        "-o",
+        s(&out_dir),
+        "--format",
+        "json",
+    ]));
+    for name in ["ellipsoid", "inward", "suzanne"] {
+        let lines = read_lines(&out_dir.join(format!("{name}-lines.json")), None).unwrap();
+        if name != "suzanne" {
+            assert_eq!(lines.lines.len(), 1, "{name}");
+        }
+    }
+    let table = stderr(&out);
+    assert!(table.contains("3 meshes, 3 done, 0 failed"), "{table}");
+
+    // A broken file is reported and skipped; the exit code says something failed.
+    std::fs::write(inputs.join("broken.obj"), "v 0 0 0\nf 1 2 3\n").unwrap();
+    let extra = ellipsoid(dir.path(), "extra.obj", false);
+    let out = run(&[
+        "extract",
+        s(&inputs),
+        s(&extra),
+        "-o",
+        s(&dir.path().join("o2")),
+        "--stats=json",
+        "-q",
+    ]);
+    assert!(!out.status.success());
+    let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(summary["meshes"], 5);
+    assert_eq!(summary["failed"], 1);
+    let broken = &summary["files"][0];
+    assert_eq!(broken["ok"], false);
+    assert!(
+        broken["error"].as_str().unwrap().contains("broken.obj"),
+        "{broken}"
+    );
+    assert!(
+        stderr(&out).contains("1 of 5 meshes failed"),
+        "{}",
+        stderr(&out)
+    );
+    // Two inputs that would write the same file are refused before any work.
+    let err = fails(run(&[
+        "extract",
+        s(&inputs.join("suzanne.obj")),
+        s(&shared.join("suzanne.obj")),
+    ]));
+    assert!(err.contains("would both write"), "{err}");
+}
+
+#[test]
+fn progress_is_hidden_with_q_and_when_stderr_is_not_a_terminal() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = ellipsoid(dir.path(), "e.obj", false);
+    let o = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    for args in [
+        vec![
+            "simplify".to_string(),
+            o("e.obj"),
+            "-o".into(),
+            o("s.obj"),
+            "--eta".into(),
+            "0".into(),
+        ],
+        vec![
+            "render".into(),
+            o("e.obj"),
+            "-o".into(),
+            o("r.png"),
+            "--size".into(),
+            "64".into(),
+        ],
+        vec!["view".into(), o("e.obj"), "-o".into(), o("v.html")],
+        vec!["distance".into(), o("e.obj"), "-o".into(), o("d.ply")],
+        vec!["curvature".into(), o("e.obj"), "-o".into(), o("c.ply")],
+        vec!["subdivide".into(), o("e.obj"), "-o".into(), o("u.obj")],
+        vec!["extract".into(), o("e.obj"), "-o".into(), o("l.obj")],
+    ] {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = ok(run(&args));
+        // Not a terminal: no spinner frames or cursor movements, only notes.
+        assert!(
+            !stderr(&out).contains('\u{1b}'),
+            "{args:?}: {:?}",
+            stderr(&out)
+        );
+        let mut quiet = args.clone();
+        quiet.push("-q");
+        let out = ok(run(&quiet));
+        assert!(stderr(&out).is_empty(), "{quiet:?}: {}", stderr(&out));
+    }
+    drop(mesh);
+}
+
+#[test]
+fn render_clips_the_colour_range_and_checks_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = ellipsoid(dir.path(), "e.obj", false);
+    let picture = |extra: &[&str]| {
+        let png = dir.path().join("p.png");
+        let mut args = vec![
+            "render",
+            s(&mesh),
+            "--field",
+            "k_max",
+            "-o",
+            s(&png),
+            "--size",
+            "128",
+        ];
+        args.extend(extra);
+        ok(run(&args));
+        std::fs::read(&png).unwrap()
+    };
+    let default = picture(&[]);
+    assert!(default == picture(&["--field-range", "2%"]));
+    assert!(default != picture(&["--field-range", "full"]));
+    assert!(default != picture(&["--field-range", "0,0.5"]));
+    let err = fails(run(&[
+        "render",
+        s(&mesh),
+        "-o",
+        "x.png",
+        "--field-range",
+        "60%",
+    ]));
+    assert!(err.contains("below 50"), "{err}");
+}
