@@ -134,7 +134,8 @@ pub fn is_dash(path: &Path) -> bool {
 }
 
 /// Reads `path` (`-`: standard input), or without a path standard input when it is not a
-/// terminal and the built-in example when it is (said on stderr). A mesh without triangles
+/// terminal, and the built-in example when it is a terminal or empty without
+/// `--input-format` (said on stderr). A mesh without triangles
 /// is an error.
 pub fn load_mesh(path: Option<&Path>, format: Option<FormatArg>) -> Result<(TriMesh, String)> {
     let (mesh, name) = match path {
@@ -144,20 +145,24 @@ pub fn load_mesh(path: Option<&Path>, format: Option<FormatArg>) -> Result<(TriM
             let mesh = crestline::io::read_mesh(p, format.map(Into::into))?;
             (mesh, p.display().to_string())
         }
-        None if !std::io::stdin().is_terminal() => read_stdin(
+        None if !std::io::stdin().is_terminal() && format.is_some() => read_stdin(
             format,
             "no mesh file given and standard input is not a terminal",
         )?,
-        None => {
-            eprintln!(
-                "no mesh given: using the built-in example (fandisk, a CAD part with sharp \
-                 creases); give a file, or pipe one in with --input-format"
-            );
-            let name = "fandisk.obj (built-in)";
-            let mesh =
-                crestline::io::read_mesh_bytes(BUILT_IN_EXAMPLE, Format::Obj, Path::new(name))?;
-            (mesh, name.into())
+        None if !std::io::stdin().is_terminal() => {
+            let bytes = read_all_stdin()?;
+            if bytes.is_empty() {
+                // Run from a script or CI with nothing piped in: the example, as on a terminal.
+                built_in_example("no mesh given and standard input is empty")?
+            } else {
+                parse_stdin(
+                    &bytes,
+                    format,
+                    "no mesh file given and standard input is not a terminal",
+                )?
+            }
         }
+        None => built_in_example("no mesh given")?,
     };
     if mesh.num_faces() == 0 {
         bail!(
@@ -170,23 +175,47 @@ pub fn load_mesh(path: Option<&Path>, format: Option<FormatArg>) -> Result<(TriM
     Ok((mesh, name))
 }
 
+/// The built-in example mesh, with a note on stderr that says `why`.
+fn built_in_example(why: &str) -> Result<(TriMesh, String)> {
+    eprintln!(
+        "{why}: using the built-in example (fandisk, a CAD part with sharp creases); give a \
+         file, or pipe one in with --input-format"
+    );
+    let name = "fandisk.obj (built-in)";
+    let mesh = crestline::io::read_mesh_bytes(BUILT_IN_EXAMPLE, Format::Obj, Path::new(name))?;
+    Ok((mesh, name.into()))
+}
+
+fn read_all_stdin() -> Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .lock()
+        .read_to_end(&mut bytes)
+        .context("cannot read standard input")?;
+    Ok(bytes)
+}
+
 /// Reads a whole mesh from standard input; `why` says why standard input is read.
 fn read_stdin(format: Option<FormatArg>, why: &str) -> Result<(TriMesh, String)> {
+    if format.is_none() {
+        return parse_stdin(&[], format, why);
+    }
+    let bytes = read_all_stdin()?;
+    if bytes.is_empty() {
+        bail!("{STDIN_NAME}: standard input is empty ({why}); give a mesh file");
+    }
+    parse_stdin(&bytes, format, why)
+}
+
+/// Parses the bytes read from standard input as a mesh of `format`.
+fn parse_stdin(bytes: &[u8], format: Option<FormatArg>, why: &str) -> Result<(TriMesh, String)> {
     let Some(format) = format else {
         bail!(
             "reading the mesh from standard input ({why}): give its format with \
              --input-format obj|ply|off|stl"
         );
     };
-    let mut bytes = Vec::new();
-    std::io::stdin()
-        .lock()
-        .read_to_end(&mut bytes)
-        .context("cannot read standard input")?;
-    if bytes.is_empty() {
-        bail!("{STDIN_NAME}: standard input is empty ({why}); give a mesh file");
-    }
-    let mesh = crestline::io::read_mesh_bytes(&bytes, format.into(), Path::new(STDIN_NAME))?;
+    let mesh = crestline::io::read_mesh_bytes(bytes, format.into(), Path::new(STDIN_NAME))?;
     Ok((mesh, STDIN_NAME.to_string()))
 }
 
