@@ -14,7 +14,7 @@ use pyo3::{PyErr, PyResult};
 pub fn to_py_err(error: Error) -> PyErr {
     let message = error.to_string();
     match error {
-        Error::Io { source, .. } => match source.kind() {
+        Error::Io { cause, .. } => match cause.kind() {
             std::io::ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
             std::io::ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
             _ => PyOSError::new_err(message),

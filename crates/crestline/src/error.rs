@@ -36,13 +36,18 @@ impl fmt::Display for Location {
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// The operating system refused to read or write a file.
-    #[error("{}: {source}", path.display())]
+    ///
+    /// The message says what the system said; the error has no [`source`]
+    /// (`std::error::Error::source`), so that a chain of causes (as `anyhow` prints it) does not
+    /// say it twice.
+    ///
+    /// [`source`]: std::error::Error::source
+    #[error("{}: {cause}", path.display())]
     Io {
         /// The file concerned.
         path: PathBuf,
         /// What the operating system said.
-        #[source]
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// A file's contents are malformed.
     #[error("{}: {location}: {message}", path.display())]
@@ -76,10 +81,10 @@ impl Error {
     }
 
     /// Builds an [`Error::Io`].
-    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    pub fn io(path: impl Into<PathBuf>, cause: std::io::Error) -> Self {
         Error::Io {
             path: path.into(),
-            source,
+            cause,
         }
     }
 }

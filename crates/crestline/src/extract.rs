@@ -405,6 +405,7 @@ pub fn extract_with_progress(
     options: &ExtractOptions,
     progress: &mut dyn FnMut(Stage, Option<Duration>),
 ) -> Result<Extraction> {
+    mesh.check_coordinate_range()?;
     let mut stats = ExtractStats {
         triangles: mesh.num_faces(),
         ..Default::default()
@@ -541,11 +542,78 @@ pub fn extract_with_progress(
     stats.total_length = lines.total_length();
     stats.creases = lines.creases(true).count();
     stats.crease_length = lines.creases(true).map(|l| l.length).sum();
-    Ok(Extraction {
+    let extraction = Extraction {
         lines,
         curvature,
         stats,
-    })
+    };
+    debug_assert!(
+        extraction.check_finite().is_ok(),
+        "{:?}",
+        extraction.check_finite()
+    );
+    Ok(extraction)
+}
+
+impl Extraction {
+    /// Checks that every number of the result is finite: the lines' points, lengths,
+    /// integrals and strengths, every curvature field and the lengths in the statistics
+    /// (`stats.threshold` excepted: it is +∞ when the saliency method finds no knee and keeps
+    /// no point). A NaN or an infinity would be a bug; [`extract`] checks this in debug
+    /// builds, and the tests and fuzz targets call it.
+    ///
+    /// # Errors
+    /// What the first non-finite value is, and where.
+    pub fn check_finite(&self) -> std::result::Result<(), String> {
+        let bad = |x: f64| !x.is_finite();
+        for (i, l) in self.lines.lines.iter().enumerate() {
+            if l.points.iter().any(|p| p.iter().any(|&c| bad(c))) {
+                return Err(format!("line {i} has a non-finite point"));
+            }
+            for (name, x) in [
+                ("length", l.length),
+                ("curvature integral", l.curvature_integral),
+                ("strength", l.strength),
+            ] {
+                if bad(x) {
+                    return Err(format!("line {i} has a non-finite {name} ({x})"));
+                }
+            }
+        }
+        let c = &self.curvature;
+        let scalars = [
+            ("k_max", &c.k_max),
+            ("k_min", &c.k_min),
+            ("e_max", &c.e_max),
+            ("e_min", &c.e_min),
+        ];
+        for (name, values) in scalars {
+            if let Some(v) = values.iter().position(|&x| bad(x)) {
+                return Err(format!("{name} of vertex {v} is {}", values[v]));
+            }
+        }
+        let vectors = [
+            ("dir_max", &c.dir_max),
+            ("dir_min", &c.dir_min),
+            ("normals", &c.normals),
+        ];
+        for (name, values) in vectors {
+            if let Some(v) = values.iter().position(|p| p.iter().any(|&x| bad(x))) {
+                return Err(format!("{name} of vertex {v} is not finite"));
+            }
+        }
+        let s = &self.stats;
+        for (name, x) in [
+            ("total_length", s.total_length),
+            ("crease_length", s.crease_length),
+            ("extremality_noise", c.extremality_noise),
+        ] {
+            if bad(x) {
+                return Err(format!("stats: {name} is {x}"));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Reports stage starts and ends and keeps the timings.

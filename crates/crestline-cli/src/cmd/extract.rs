@@ -12,6 +12,7 @@ use crestline::curvature::cubic_fit::MAX_RINGS;
 use crestline::extract::{ExtractOptions, Extraction, Method, Stage, extract_with_progress};
 use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines, write_lines_to};
+use crestline::io::mask::read_diffusion_factors;
 use crestline::lines::crease::CreaseAngle;
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 use crestline::smoothing::surface::SurfaceSmoothing;
@@ -460,7 +461,7 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
 
 fn diffusion_factors(args: &Args, mesh: &TriMesh) -> Result<Option<Vec<f64>>> {
     let mut factors = match &args.mask {
-        Some(path) => Some(read_factors(path, mesh.num_vertices())?),
+        Some(path) => Some(read_diffusion_factors(path, mesh.num_vertices())?),
         None => None,
     };
     let mut mask = DiffusionMask::default();
@@ -501,40 +502,6 @@ fn numbers(text: &str, count: usize, flag: &str) -> Result<Vec<f64>> {
         bail!("{flag} takes {count} comma-separated finite numbers, got `{text}`");
     }
     Ok(v)
-}
-
-fn read_factors(path: &Path, n: usize) -> Result<Vec<f64>> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let mut values = Vec::with_capacity(n);
-    for (i, line) in text.lines().enumerate() {
-        let line = line.split('#').next().unwrap_or("");
-        for token in line.split_whitespace() {
-            let x: f64 = token.parse().map_err(|_| {
-                anyhow::anyhow!(
-                    "{}: line {}: `{token}` is not a number",
-                    path.display(),
-                    i + 1
-                )
-            })?;
-            if !(x.is_finite() && x >= 0.0) {
-                bail!(
-                    "{}: line {}: factor must be finite and >= 0, got {x}",
-                    path.display(),
-                    i + 1
-                );
-            }
-            values.push(x);
-        }
-    }
-    if values.len() != n {
-        bail!(
-            "{}: {} factors for a mesh of {n} vertices",
-            path.display(),
-            values.len()
-        );
-    }
-    Ok(values)
 }
 
 /// `<mesh name>-lines.<format>` (`example` for the built-in example, `stdin` for standard

@@ -199,6 +199,7 @@ pub fn estimate_split(
     options: &CurvatureOptions,
     creases: Option<&[bool]>,
 ) -> Result<Curvature> {
+    mesh.check_coordinate_range()?;
     match options.estimator {
         Estimator::ShapeOperator => {
             let support = options.shape_operator.direction_support;

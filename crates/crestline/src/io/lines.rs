@@ -28,15 +28,14 @@
 //! Limits: a line with fewer than two points cannot be written as an OBJ `l` or a PLY edge
 //! and is left out of OBJ files and reads back from PLY as nothing (JSON keeps it).
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
 use super::ply::edges::{EdgeRecord, parse_edges};
 use super::ply::{PlyEncoding, RecordWriter, index_type};
-use super::text::{Lines, Source, Tokens, parse_i64, show, vertex};
+use super::text::{Lines, Source, Tokens, parse_i64, show, strip_bom, vertex};
 use super::write_f64;
 use crate::error::{Error, Result};
 use crate::lines::{FeatureLine, FeatureLines, LineKind};
@@ -149,7 +148,8 @@ pub fn write_lines_to<W: Write>(
     }
 }
 
-/// Writes feature lines to `path`, in `format` or else the one its extension names; PLY
+/// Writes feature lines to `path` (all or nothing, see [`super::write_atomically`]), in
+/// `format` or else the one its extension names; PLY
 /// uses the encoding in `ply_encoding`.
 ///
 /// # Errors
@@ -169,15 +169,11 @@ pub fn write_lines(
                 path.display()
             ))
         })?;
-    let file = File::create(path).map_err(|e| Error::io(path, e))?;
-    let mut out = BufWriter::new(file);
-    match format {
-        LinesFormat::Obj => write_lines_obj(&mut out, lines),
-        LinesFormat::Json => write_lines_json(&mut out, lines),
-        LinesFormat::Ply => write_lines_ply(&mut out, lines, ply_encoding),
-    }
-    .and_then(|()| out.flush())
-    .map_err(|e| Error::io(path, e))
+    super::write_atomically(path, |out| match format {
+        LinesFormat::Obj => write_lines_obj(out, lines),
+        LinesFormat::Json => write_lines_json(out, lines),
+        LinesFormat::Ply => write_lines_ply(out, lines, ply_encoding),
+    })
 }
 
 /// The class of a line in files (the PLY `kind`): 0 ridge, 1 valley, 2 crease ridge, 3 crease
@@ -282,6 +278,7 @@ pub fn parse_lines_obj(bytes: &[u8], name: &Path) -> Result<FeatureLines> {
     if bytes.is_empty() {
         return Err(source.whole("empty file"));
     }
+    let bytes = strip_bom(bytes);
     let mut positions: Vec<[f64; 3]> = Vec::new();
     // (line number, kind, 0-based indices); resolved once every vertex is known, since an
     // `l` may refer to vertices that come later.
@@ -734,6 +731,15 @@ struct JsonLine {
 /// # Errors
 /// Whatever `out` returns.
 pub fn write_lines_json<W: Write>(out: W, lines: &FeatureLines) -> std::io::Result<()> {
+    // serde_json would write a non-finite number as `null`.
+    for l in &lines.lines {
+        for x in l.points.iter().flat_map(|p| p.iter()) {
+            super::check_finite(*x)?;
+        }
+        for x in [l.length, l.curvature_integral, l.strength] {
+            super::check_finite(x)?;
+        }
+    }
     let [ridges, valleys, crease_ridges, crease_valleys] = class_counts(lines);
     let file = JsonFile {
         ridges,

@@ -21,6 +21,7 @@
 //! order, including unreferenced ones.
 
 pub mod lines;
+pub mod mask;
 mod obj;
 mod off;
 mod ply;
@@ -31,7 +32,7 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Location, Result};
 use crate::mesh::TriMesh;
 
 pub use ply::{PlyEncoding, PlyWriter, PropertyValues, VertexProperty, write_ply};
@@ -207,12 +208,36 @@ pub fn parse_mesh_bytes(bytes: &[u8], format: Format, name: &Path) -> Result<Mes
     if bytes.is_empty() {
         return Err(source.whole("empty file"));
     }
-    match format {
+    // A UTF-8 byte-order mark before a text header is skipped (a binary STL's 80-byte header
+    // may start with any bytes, so there only before `solid`); byte offsets in errors still
+    // count it.
+    let text = text::strip_bom(bytes);
+    let (bytes, skipped) = match format {
+        Format::Stl if !text.trim_ascii_start().starts_with(b"solid") => (bytes, 0),
+        _ => (text, bytes.len() - text.len()),
+    };
+    let data = match format {
         Format::Obj => obj::parse(bytes, source),
         Format::Ply => ply::parse(bytes, source),
         Format::Off => off::parse(bytes, source),
         Format::Stl => stl::parse(bytes, source),
     }
+    .map_err(|e| match e {
+        Error::Parse {
+            path,
+            location: Location::Byte(at),
+            message,
+        } if skipped > 0 => Error::Parse {
+            path,
+            location: Location::Byte(at + skipped as u64),
+            message,
+        },
+        e => e,
+    })?;
+    if data.positions.is_empty() {
+        return Err(source.whole("no vertices: the file holds no mesh"));
+    }
+    Ok(data)
 }
 
 /// How meshes are written.
@@ -243,7 +268,7 @@ impl Default for WriteOptions {
     }
 }
 
-/// Writes `mesh` to `path` in `format`.
+/// Writes `mesh` to `path` in `format`, all or nothing (see [`write_atomically`]).
 ///
 /// STL stores single precision and no shared vertices, so it is the one lossy format.
 ///
@@ -255,11 +280,42 @@ pub fn write_mesh(
     format: Format,
     options: &WriteOptions,
 ) -> Result<()> {
-    let file = File::create(path).map_err(|e| Error::io(path, e))?;
-    let mut writer = BufWriter::new(file);
-    write_mesh_to(&mut writer, mesh, format, options)
-        .and_then(|()| writer.flush())
-        .map_err(|e| Error::io(path, e))
+    write_atomically(path, |out| write_mesh_to(out, mesh, format, options))
+}
+
+/// Writes the file `path` through `write`, all or nothing: the bytes go to a new temporary
+/// file in the same folder, which replaces `path` (by a rename) only once `write` has
+/// succeeded and everything is flushed. A failure midway (a full disk, a value that cannot be
+/// written, an interrupted process) leaves any earlier file at `path` as it was and no
+/// partial file behind; writing over the file a result was read from is safe. The new file
+/// gets the usual permissions (read-write, less the umask).
+///
+/// # Errors
+/// [`Error::Io`] naming `path` when the folder does not exist or cannot be written to, when
+/// `path` is a folder, or when `write` fails.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<&File>) -> std::io::Result<()>,
+) -> Result<()> {
+    let fail = |e: std::io::Error| Error::io(path, e);
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".crestline-").suffix(".part");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    // Dropped on every early return, the temporary file removes itself.
+    let temporary = builder.tempfile_in(folder).map_err(fail)?;
+    let mut out = BufWriter::new(temporary.as_file());
+    write(&mut out).and_then(|()| out.flush()).map_err(fail)?;
+    drop(out);
+    temporary.persist(path).map_err(|e| fail(e.error))?;
+    Ok(())
 }
 
 /// Writes `mesh` in `format` to any writer (buffer it: the writers issue many small writes).
@@ -293,8 +349,12 @@ fn push_fan(faces: &mut Vec<[u32; 3]>, corners: &[u32]) {
 /// Writes an `f64` so that parsing it gives back the same bits, in the shortest form:
 /// plain decimals for ordinary magnitudes, exponent notation for very small or large ones
 /// (where plain decimals would run to hundreds of digits).
+///
+/// # Errors
+/// As [`check_finite`], and whatever `out` returns.
 #[inline]
 fn write_f64(out: &mut impl Write, x: f64) -> std::io::Result<()> {
+    check_finite(x)?;
     // zmij (already in the tree through serde_json) prints the same shortest round-trip
     // digits as `Display` for a third of the instructions (igea's lines: 30M against 103M),
     // and like the `{:e}` it replaced it switches to exponent form for very small and very
@@ -302,6 +362,27 @@ fn write_f64(out: &mut impl Write, x: f64) -> std::io::Result<()> {
     let mut buffer = zmij::Buffer::new();
     let text = buffer.format(x);
     out.write_all(text.strip_suffix(".0").unwrap_or(text).as_bytes())
+}
+
+/// `Ok` for a finite number. A NaN or an infinity in a result is a bug upstream: the writers
+/// refuse it (and, writing all or nothing, leave no file) rather than write a number no
+/// reader accepts (or, in JSON, a silent `null`).
+///
+/// # Errors
+/// An [`std::io::ErrorKind::InvalidData`] error saying which value it was.
+#[inline]
+fn check_finite(x: f64) -> std::io::Result<()> {
+    if x.is_finite() {
+        Ok(())
+    } else {
+        Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "cannot write the value {x}: every number written must be finite (a bug in \
+                 crestline: please report it)"
+            ),
+        ))
+    }
 }
 
 #[cfg(test)]

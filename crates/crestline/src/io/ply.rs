@@ -26,8 +26,7 @@
 pub(super) mod edges;
 
 use std::borrow::Cow;
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
 use super::text::{Lines, Source, Words, parse_f64, parse_i64, show};
@@ -137,6 +136,22 @@ struct Element {
 impl Element {
     fn is_vertex(&self) -> bool {
         self.name == "vertex"
+    }
+
+    /// At most how many of its records `bytes` bytes of the body can hold: every value takes
+    /// its size in binary, and at least a digit and a separator in ascii (bar the last). Bounds
+    /// what is reserved ahead, whatever the header claims.
+    fn records_in(&self, bytes: usize, encoding: PlyEncoding) -> usize {
+        let smallest: usize = self
+            .properties
+            .iter()
+            .map(|p| match (encoding, p.kind) {
+                (PlyEncoding::Ascii, _) => 2,
+                (_, Kind::Scalar(s)) => s.size(),
+                (_, Kind::List { count, .. }) => count.size(),
+            })
+            .sum();
+        self.count.min(bytes / smallest.max(1) + 1)
     }
 
     /// Bytes per record when every property is a scalar.
@@ -284,7 +299,12 @@ fn parse_header(bytes: &[u8], source: Source<'_>) -> Result<Header> {
         elements,
         vertex_count,
         body_offset: lines.offset(),
-        body_line: end_line + 1,
+        // An empty body: errors point at the last line, end_header.
+        body_line: if lines.offset() < bytes.len() {
+            end_line + 1
+        } else {
+            end_line
+        },
     })
 }
 
@@ -581,7 +601,7 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
                 words: Words::new(bytes, header.body_offset, header.body_line),
                 remaining_hint: body.len(),
             };
-            decode(&header, &mut values, source, bytes.len())
+            decode(&header, &mut values, source, body.len())
         }
         PlyEncoding::BinaryLittleEndian => {
             let mut values = Binary::<false> {
@@ -611,7 +631,14 @@ fn decode<V: Values>(
 ) -> Result<MeshData> {
     let vertex_count = header.vertex_count;
     // Never trust a header count for an allocation beyond what the file could hold.
-    let mut positions = Vec::with_capacity(vertex_count.min(body_len));
+    let room = |element: &Element| element.records_in(body_len, header.encoding);
+    let mut positions = Vec::with_capacity(
+        header
+            .elements
+            .iter()
+            .find(|e| e.is_vertex())
+            .map_or(0, room),
+    );
     let mut faces = Vec::new();
     let mut corners: Vec<u32> = Vec::new();
 
@@ -648,7 +675,7 @@ fn decode<V: Values>(
             }
         }
         if element.name == "face" {
-            faces.reserve(element.count.min(body_len));
+            faces.reserve(room(element));
         }
         for record in 0..element.count {
             let mut point = [0.0f64; 3];
@@ -1085,14 +1112,12 @@ impl<'a> PlyWriter<'a> {
         out.finish()
     }
 
-    /// Writes the file to `path`.
+    /// Writes the file to `path`, all or nothing (see [`super::write_atomically`]).
     ///
     /// # Errors
     /// [`Error::Io`] naming the file.
     pub fn write(&self, path: &Path) -> Result<()> {
-        let file = File::create(path).map_err(|e| Error::io(path, e))?;
-        self.write_to(BufWriter::new(file))
-            .map_err(|e| Error::io(path, e))
+        super::write_atomically(path, |out| self.write_to(out))
     }
 }
 
@@ -1153,6 +1178,7 @@ impl<W: Write> RecordWriter<W> {
     }
 
     pub fn f64(&mut self, x: f64) -> std::io::Result<()> {
+        super::check_finite(x)?;
         match self.encoding {
             PlyEncoding::Ascii => {
                 self.separate()?;
@@ -1164,6 +1190,7 @@ impl<W: Write> RecordWriter<W> {
     }
 
     pub fn f32(&mut self, x: f32) -> std::io::Result<()> {
+        super::check_finite(f64::from(x))?;
         match self.encoding {
             PlyEncoding::Ascii => {
                 self.separate()?;

@@ -266,7 +266,17 @@ pub(super) fn write<W: Write>(mut out: W, mesh: &TriMesh) -> std::io::Result<()>
             .chain(c.iter())
             .enumerate()
         {
-            record[4 * k..4 * k + 4].copy_from_slice(&(*value as f32).to_le_bytes());
+            let single = *value as f32;
+            if !single.is_finite() {
+                return Err(std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    format!(
+                        "triangle {f}: {value} does not fit the single precision of STL (use \
+                         OBJ, PLY or OFF)"
+                    ),
+                ));
+            }
+            record[4 * k..4 * k + 4].copy_from_slice(&single.to_le_bytes());
         }
         out.write_all(&record)?;
     }

@@ -42,6 +42,15 @@ impl<'a> Source<'a> {
     }
 }
 
+/// The UTF-8 byte-order mark some editors (Windows Notepad among them) put at the start of a
+/// text file.
+pub(crate) const BOM: &[u8] = b"\xef\xbb\xbf";
+
+/// `bytes` without a leading UTF-8 byte-order mark.
+pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(BOM).unwrap_or(bytes)
+}
+
 #[inline]
 pub(crate) fn is_space(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\r' | 0x0b | 0x0c)

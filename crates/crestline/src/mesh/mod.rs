@@ -168,6 +168,36 @@ impl TriMesh {
         self
     }
 
+    /// The largest magnitude of a coordinate the algorithms accept: they form products of up
+    /// to four lengths (squared areas, the units of squared extremalities), which must stay
+    /// finite. Meshes hold and files store any finite coordinate exactly; no real model comes
+    /// near this bound (the observable universe is 1e27 metres across).
+    pub const MAX_COORDINATE: f64 = 1e75;
+
+    /// `Ok` when every coordinate is at most [`TriMesh::MAX_COORDINATE`] in magnitude: the
+    /// check the algorithms ([`crate::curvature::estimate`], [`crate::extract::extract`]) make
+    /// before they start.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the first vertex beyond the bound.
+    pub fn check_coordinate_range(&self) -> Result<()> {
+        let within = |p: &Vec3| p.iter().all(|c| c.abs() <= Self::MAX_COORDINATE);
+        match self.positions.par_iter().position_first(|p| !within(p)) {
+            None => Ok(()),
+            Some(i) => {
+                let p = self.positions[i];
+                Err(Error::InvalidInput(format!(
+                    "vertex {i} has a coordinate too large to compute with: ({:e}, {:e}, {:e}); \
+                     |x| must be at most {:e} (scale the model down)",
+                    p.x,
+                    p.y,
+                    p.z,
+                    Self::MAX_COORDINATE
+                )))
+            }
+        }
+    }
+
     /// Vertex positions, one per vertex (including unreferenced ones).
     pub fn positions(&self) -> &[Vec3] {
         &self.positions
@@ -232,12 +262,22 @@ fn is_degenerate(positions: &[Vec3], t: &[u32; 3]) -> bool {
         return true;
     }
     let [a, b, c] = t.map(|i| positions[i as usize]);
-    let (e1, e2) = (b - a, c - a);
+    let (e1, e2, e3) = (b - a, c - a, c - b);
+    // In units of the largest edge component, so that huge coordinates do not overflow the
+    // products below (a triangle of sides 1e200 is large, not flat).
+    let unit = e1.amax().max(e2.amax()).max(e3.amax());
+    if unit == 0.0 {
+        return true;
+    }
+    if !unit.is_finite() {
+        return false;
+    }
+    let (e1, e2, e3) = (e1 / unit, e2 / unit, e3 / unit);
     let cross = e1.cross(&e2).norm();
     let scale = e1
         .norm_squared()
         .max(e2.norm_squared())
-        .max((c - b).norm_squared());
+        .max(e3.norm_squared());
     // Relative test: a triangle whose height is ~1e-13 of its longest edge is flat to rounding.
     cross <= 1e-13 * scale
 }

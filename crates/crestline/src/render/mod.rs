@@ -42,6 +42,7 @@ mod html;
 mod raster;
 mod svg;
 
+use std::io::Write;
 use std::path::Path;
 
 use crate::error::{Error, Result};
@@ -268,7 +269,7 @@ impl Image {
     /// [`Error::Io`] when the file cannot be written.
     pub fn write_png(&self, path: &Path) -> Result<()> {
         let bytes = self.to_png()?;
-        std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
+        crate::io::write_atomically(path, |out| out.write_all(&bytes))
     }
 }
 
@@ -418,7 +419,7 @@ pub fn write_svg(
     opts: &RenderOptions,
 ) -> Result<()> {
     let svg = render_svg(mesh, lines, field, opts)?;
-    std::fs::write(path, svg).map_err(|e| Error::io(path, e))
+    crate::io::write_atomically(path, |out| out.write_all(svg.as_bytes()))
 }
 
 /// Writes the interactive HTML viewer into `path`.
@@ -433,7 +434,7 @@ pub fn write_html(
     opts: &RenderOptions,
 ) -> Result<()> {
     let html = render_html(mesh, lines, field, opts)?;
-    std::fs::write(path, html).map_err(|e| Error::io(path, e))
+    crate::io::write_atomically(path, |out| out.write_all(html.as_bytes()))
 }
 
 /// The picture formats, chosen from a file's extension by [`PictureFormat::from_path`].

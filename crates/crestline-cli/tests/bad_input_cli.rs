@@ -1,0 +1,201 @@
+//! Bad input through the command line: every case ends with exit status 1 and one `error:`
+//! line naming the file (or a result), never a panic, and leaves no partial output file. The
+//! library's side of the bad-input suite is `crates/crestline/tests/bad_input.rs`.
+
+// Test code: stopping loudly on the first surprise is the point.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn crestline(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args(args)
+        .output()
+        .expect("the crestline binary runs")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// The run failed cleanly: status 1, stderr's last line an `error:` containing `words`,
+/// no panic.
+#[track_caller]
+fn failed_with(out: &Output, words: &[&str]) -> String {
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let last = stderr.lines().last().unwrap_or_default().to_string();
+    assert!(last.starts_with("error: "), "{stderr}");
+    for w in words {
+        assert!(last.contains(w), "{last} (wanted '{w}')");
+    }
+    last
+}
+
+/// Files in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+const TETRA: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+#[test]
+fn a_missing_file_is_named_once_with_its_cause_said_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.obj");
+    let out = dir.path().join("out.obj");
+    let last = failed_with(
+        &crestline(&["extract", s(&missing), "-o", s(&out), "-q"]),
+        &[s(&missing), "No such file or directory"],
+    );
+    assert_eq!(
+        last.matches("No such file or directory").count(),
+        1,
+        "{last}"
+    );
+    assert!(listing(dir.path()).is_empty());
+}
+
+#[test]
+fn a_directory_as_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("folder.obj");
+    std::fs::create_dir(&folder).unwrap();
+    failed_with(
+        &crestline(&["info", s(&folder)]),
+        &[s(&folder), "directory"],
+    );
+}
+
+#[test]
+fn malformed_files_in_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, bytes, words) in [
+        (
+            "a.obj",
+            &b"v 0 0 0\nv 1 nan 0\n"[..],
+            &["a.obj: line 2", "NaN"][..],
+        ),
+        (
+            "b.ply",
+            b"ply\nformat ascii 1.0\n",
+            &["b.ply: line 2", "end_header"],
+        ),
+        (
+            "c.off",
+            b"OFF\n3 1 0\n0 0 0\n",
+            &["c.off: line 3", "of 3 vertices"],
+        ),
+        ("d.stl", b"\x00\x01junk", &["d.stl: byte 6", "truncated"]),
+        ("e.obj", b"", &["e.obj: file: empty file"]),
+        ("f.obj", b"# nothing\n", &["f.obj: file: no vertices"]),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let out = dir.path().join(format!("{name}-lines.obj"));
+        failed_with(
+            &crestline(&["extract", s(&path), "-o", s(&out), "-q"]),
+            words,
+        );
+        assert!(!out.exists(), "{name}: an output was left behind");
+    }
+}
+
+#[test]
+fn an_unwritable_output_leaves_nothing_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("tetra.obj");
+    std::fs::write(&mesh, TETRA).unwrap();
+    let nowhere = dir.path().join("no/such/folder/lines.obj");
+    failed_with(
+        &crestline(&["extract", s(&mesh), "-o", s(&nowhere), "-q"]),
+        &[s(&nowhere)],
+    );
+    // The output is an existing folder.
+    let folder = dir.path().join("out.obj");
+    std::fs::create_dir(&folder).unwrap();
+    failed_with(
+        &crestline(&["subdivide", s(&mesh), "-o", s(&folder)]),
+        &[s(&folder)],
+    );
+    assert!(folder.is_dir());
+    assert_eq!(listing(dir.path()), vec!["out.obj", "tetra.obj"]);
+}
+
+#[test]
+fn output_over_the_input_replaces_it_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("tetra.obj");
+    std::fs::write(&mesh, TETRA).unwrap();
+    let run = crestline(&["subdivide", s(&mesh), "-o", s(&mesh)]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let back = crestline::io::read_mesh(&mesh, None).unwrap();
+    assert_eq!(back.num_faces(), 16);
+    assert_eq!(listing(dir.path()), vec!["tetra.obj"]);
+}
+
+#[test]
+fn a_bad_mask_file_names_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("tetra.obj");
+    std::fs::write(&mesh, TETRA).unwrap();
+    let mask = dir.path().join("mask.txt");
+    std::fs::write(&mask, "1\n1\nx\n1\n").unwrap();
+    let out = dir.path().join("lines.obj");
+    failed_with(
+        &crestline(&["extract", s(&mesh), "--mask", s(&mask), "-o", s(&out), "-q"]),
+        &["mask.txt: line 3", "non-numeric token 'x'"],
+    );
+    std::fs::write(&mask, "\u{feff}1\r\n1\r\n0.5\r\n1\r\n").unwrap();
+    let run = crestline(&["extract", s(&mesh), "--mask", s(&mask), "-o", s(&out), "-q"]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
+#[test]
+fn awkward_meshes_run_through_extract() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in [
+        // Vertices only.
+        ("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"),
+        // One triangle and a degenerate one.
+        (
+            "one.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n",
+        ),
+        // Three fins on one edge (a non-manifold edge).
+        (
+            "fins.obj",
+            "v 0 0 -1\nv 0 0 1\nv 1 0 0\nv -1 1 0\nv -1 -1 0\nf 1 2 3\nf 1 2 4\nf 1 2 5\n",
+        ),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        let out = dir.path().join(format!("{name}-lines.json"));
+        let run = crestline(&["extract", s(&path), "-o", s(&out), "-q"]);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(!stderr.contains("panicked"), "{name}: {stderr}");
+        if run.status.success() {
+            let lines: serde_json::Value =
+                serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+            assert!(lines["lines"].is_array(), "{name}");
+        } else {
+            failed_with(&run, &[]);
+            assert!(!out.exists(), "{name}");
+        }
+    }
+}
