@@ -483,7 +483,8 @@ pub fn extract_with_progress(
                 options.filter.threshold
             };
             stats.threshold = threshold;
-            // The threshold applies to points here; lines are only filtered by length.
+            // The threshold applies to points here; the linking applies the strength floor
+            // (`LinkOptions::min_strength`), the filter below only the length.
             filter.threshold = f64::NEG_INFINITY;
             link_feature_points(
                 surface,
