@@ -8,7 +8,7 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use crestline::extract::{ExtractOptions, Extraction, Method, extract};
 use crestline::lines::FeatureLines;

@@ -2,7 +2,7 @@
 //! samples are from another surface (simplification); loading the shared meshes; distances
 //! between points and polylines with the ellipsoid and torus checks of the extraction tests.
 
-// Each test crate uses a subset of these helpers.
+// Each test module uses a subset of these helpers.
 #![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use crestline::extract::{ExtractOptions, extract};

@@ -11,7 +11,7 @@
 //! the ridge of the narrow face between them is a fair answer at this resolution).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::{load_shared, point_segment_distance, polyline_segments};
 use crestline::extract::{ExtractOptions, extract};

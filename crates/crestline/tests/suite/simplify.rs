@@ -7,7 +7,7 @@ use crestline::shapes;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
 use crestline::spatial::FaceGrid;
 
-mod common;
+use crate::common;
 use common::{distance_to, samples};
 use crestline::Vec3;
 

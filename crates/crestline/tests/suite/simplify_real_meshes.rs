@@ -16,7 +16,7 @@ use crestline::mesh::face_normals;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
 use crestline::spatial::FaceGrid;
 
-mod common;
+use crate::common;
 use common::{distance_to, samples};
 
 fn meshes_dir() -> PathBuf {

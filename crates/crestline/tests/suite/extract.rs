@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::{ELLIPSOID, check_deterministic_and_simple, check_ellipsoid, check_torus_is_empty};
 use crestline::extract::{ExtractOptions, Method};

@@ -1,0 +1,11 @@
+//! The command-line tool's integration tests, one module per area, linked into one test
+//! binary; each runs the `crestline` binary Cargo built for the tests.
+
+mod bad_input_cli;
+mod compose;
+mod curvature_cli;
+mod extract_cli;
+mod info;
+mod orientation;
+mod simplify;
+mod subdivide;

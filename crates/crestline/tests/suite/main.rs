@@ -1,0 +1,20 @@
+//! The library's integration tests, one module per area, linked into one test binary (a
+//! binary per file would link the library two dozen times). `common` holds the shared helpers.
+
+mod auto_threshold;
+mod bad_input;
+mod cad_shapes;
+mod common;
+mod curvature;
+mod extract;
+mod extract_real_meshes;
+mod extract_ybs;
+mod html_viewer;
+mod invariance;
+mod io_robustness;
+mod io_round_trip;
+mod quality_cases;
+mod real_meshes;
+mod render;
+mod simplify;
+mod simplify_real_meshes;
