@@ -6,8 +6,9 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
-use crestline::curvature::{Curvature, CurvatureOptions, Estimator, estimate};
+use crestline::curvature::{Curvature, CurvatureOptions, Estimator, estimate_split};
 use crestline::io::{PlyEncoding, PlyWriter, VertexProperty};
+use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
 use crate::input::{MeshArgs, OrientArgs, is_dash, prepare_mesh};
@@ -63,6 +64,11 @@ pub struct Args {
     /// only).
     #[arg(long)]
     pub no_noise_adaptation: bool,
+    /// Sharp creases the estimation does not reach across (each side of a crease gets its
+    /// own fit, as in `extract`; estimator jet-fit only): `auto` (default: edges above the gap in the histogram of
+    /// dihedral angles; none on scans), `off`, or a dihedral angle in degrees.
+    #[arg(long, value_name = "auto|off|DEGREES", value_parser = super::extract::creases)]
+    pub creases: Option<CreaseAngle>,
     /// Write CSV (one row per vertex) instead of PLY.
     #[arg(long)]
     pub csv: bool,
@@ -94,9 +100,15 @@ fn columns(c: &Curvature) -> Vec<(&'static str, Vec<f64>)> {
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
     let estimator: Estimator = args.estimator.into();
-    let jet_fit_only = args.radius.is_some() || args.degree.is_some() || args.no_noise_adaptation;
+    let jet_fit_only = args.radius.is_some()
+        || args.degree.is_some()
+        || args.no_noise_adaptation
+        || args.creases.is_some();
     if jet_fit_only && estimator != Estimator::JetFit {
-        bail!("--radius, --degree and --no-noise-adaptation apply to --estimator jet-fit only");
+        bail!(
+            "--radius, --degree, --no-noise-adaptation and --creases apply to --estimator \
+             jet-fit only"
+        );
     }
     if args.rings.is_some() && estimator != Estimator::CubicFit {
         bail!("--rings applies to --estimator cubic-fit only");
@@ -116,8 +128,23 @@ pub fn run(args: Args) -> Result<()> {
     options.jet_fit = options
         .jet_fit
         .with_adapt_to_noise(!args.no_noise_adaptation);
+    // The papers' estimators read one star or ring and do not split at creases.
+    let angle = match estimator {
+        Estimator::JetFit => args.creases.unwrap_or_default(),
+        _ => CreaseAngle::Off,
+    };
+    let creases = find_creases(&mesh, &CreaseOptions::DEFAULT.with_angle(angle))?;
+    if !creases.is_empty() {
+        let edges = creases.edges.iter().filter(|&&c| c).count();
+        note!(
+            "{name}: estimation split at {edges} crease edges ({} curves; --creases off to \
+             estimate across them)",
+            creases.curves.len()
+        );
+    }
+    let split = (!creases.is_empty()).then_some(&creases.edges[..]);
     let spinner = progress::spinner(format!("curvature of {} vertices", mesh.num_vertices()));
-    let curvature = estimate(&mesh, &options)?;
+    let curvature = estimate_split(&mesh, &options, split)?;
     let mut cols = columns(&curvature);
     if args.saliency {
         let s = mesh_saliency(&mesh, &curvature, &SaliencyOptions::default())?;

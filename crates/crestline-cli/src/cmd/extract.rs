@@ -97,8 +97,8 @@ pub struct Args {
     pub crease_angle: Option<f64>,
     /// Sharp creases: `auto` (default: edges above the gap in the histogram of dihedral
     /// angles; none when there is no gap, as on scans), `off`, or a dihedral angle in degrees.
-    #[arg(long, value_name = "auto|off|DEGREES")]
-    pub creases: Option<String>,
+    #[arg(long, value_name = "auto|off|DEGREES", value_parser = creases)]
+    pub creases: Option<CreaseAngle>,
     /// Weight of the neighbourhood in the principal directions of the shape operator, >= 0
     /// (estimator shape-operator only; default 0.5; 0 gives the paper's operator, whose
     /// directions are arbitrary on flat faces).
@@ -379,6 +379,20 @@ pub fn rings(s: &str) -> Result<usize, String> {
     }
 }
 
+/// Parses `--creases`: `auto`, `off` or a dihedral angle in degrees strictly between 0 and 180.
+pub fn creases(s: &str) -> Result<CreaseAngle, String> {
+    match s {
+        "auto" => Ok(CreaseAngle::Auto),
+        "off" => Ok(CreaseAngle::Off),
+        _ => match s.parse::<f64>() {
+            Ok(d) if d > 0.0 && d < 180.0 => Ok(CreaseAngle::Degrees(d)),
+            _ => Err(format!(
+                "expected `auto`, `off` or an angle in degrees between 0 and 180, got '{s}'"
+            )),
+        },
+    }
+}
+
 /// Turns the arguments into the library's options.
 pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> {
     let mut o = ExtractOptions::for_method(method(args));
@@ -394,23 +408,8 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
     if let Some(degrees) = args.crease_angle {
         o.smoothing.crease_angle = degrees.to_radians();
     }
-    match args.creases.as_deref() {
-        Some("auto") => o.creases.angle = CreaseAngle::Auto,
-        Some("off") => o.creases.angle = CreaseAngle::Off,
-        Some(x) => {
-            let degrees = x
-                .parse::<f64>()
-                .ok()
-                .filter(|d| *d > 0.0 && *d < 180.0)
-                .with_context(|| {
-                    format!(
-                        "--creases takes `auto`, `off` or an angle in degrees between 0 and \
-                         180, got `{x}`"
-                    )
-                })?;
-            o.creases.angle = CreaseAngle::Degrees(degrees);
-        }
-        None => {}
+    if let Some(angle) = args.creases {
+        o.creases.angle = angle;
     }
     if let Some(support) = args.direction_support {
         o.curvature.shape_operator.direction_support = support;

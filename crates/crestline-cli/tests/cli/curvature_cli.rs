@@ -166,3 +166,89 @@ fn curvature_saliency_writes_curv_and_saliency_values() {
         assert_eq!(fields[ply_saliency], row[saliency] as f32);
     }
 }
+
+/// The CSV columns of `crestline curvature <args> --csv` on `mesh` (header, rows).
+fn curvature_csv(mesh: &std::path::Path, args: &[&str]) -> (Vec<String>, Vec<Vec<f64>>) {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("fields.csv");
+    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .arg("curvature")
+        .arg(mesh)
+        .args(args)
+        .args(["--csv", "-q", "-o"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut rows = text.lines();
+    let header = rows.next().unwrap().split(',').map(str::to_owned).collect();
+    let values = rows
+        .map(|r| r.split(',').map(|t| t.parse().unwrap()).collect())
+        .collect();
+    (header, values)
+}
+
+#[test]
+fn curvature_does_not_reach_across_creases() {
+    // A box of side 2 whose top edges are rounded would do; a plain cylinder of radius 4 with
+    // flat caps is simpler: on its rims the side has k = 1/4 around and 0 along, and the
+    // caps are flat. Estimated across the rim crease, the fit sees a right angle.
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("can.obj");
+    let (n, rows, radius, height) = (96usize, 24usize, 4.0f64, 6.0f64);
+    let mut obj = String::new();
+    for j in 0..=rows {
+        for i in 0..n {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            let z = height * j as f64 / rows as f64;
+            obj += &format!("v {} {} {z}\n", radius * t.cos(), radius * t.sin());
+        }
+    }
+    obj += &format!("v 0 0 0\nv 0 0 {height}\n");
+    let (bottom, top) = ((rows + 1) * n + 1, (rows + 1) * n + 2);
+    let id = |j: usize, i: usize| j * n + (i % n) + 1;
+    for j in 0..rows {
+        for i in 0..n {
+            let (a, b, c, d) = (id(j, i), id(j, i + 1), id(j + 1, i + 1), id(j + 1, i));
+            obj += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+    }
+    for i in 0..n {
+        obj += &format!("f {bottom} {} {}\n", id(0, i + 1), id(0, i));
+        obj += &format!("f {top} {} {}\n", id(rows, i), id(rows, i + 1));
+    }
+    std::fs::write(&mesh, obj).unwrap();
+    let (header, split) = curvature_csv(&mesh, &[]);
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (z, k_max, k_min) = (col("z"), col("k_max"), col("k_min"));
+    let rim: Vec<&Vec<f64>> = split[..(rows + 1) * n]
+        .iter()
+        .filter(|r| r[z] == 0.0 || r[z] == height)
+        .collect();
+    assert_eq!(rim.len(), 2 * n);
+    for r in &rim {
+        // The side's fit (the wider side at the rim): k_max = 1/4, k_min = 0.
+        assert!(
+            (r[k_max] - 0.25).abs() < 0.05,
+            "k_max {} on the rim",
+            r[k_max]
+        );
+        assert!(r[k_min].abs() < 0.12, "k_min {} on the rim", r[k_min]);
+    }
+    // Across the crease the same vertices see a right angle.
+    let (_, merged) = curvature_csv(&mesh, &["--creases", "off"]);
+    let worst = merged
+        .iter()
+        .filter(|r| r[z] == 0.0 || r[z] == height)
+        .map(|r| r[k_max].abs().max(r[k_min].abs()))
+        .fold(0.0, f64::max);
+    assert!(
+        worst > 1.0,
+        "largest |k| on the rims without the split: {worst}"
+    );
+}

@@ -1,0 +1,219 @@
+//! Sampling a fitting disc on the mesh's triangles instead of at its vertices, for the discs
+//! that long thin triangles cross.
+//!
+//! **Why.** A CAD exporter tessellates a cylinder as strips of triangles as long as the
+//! cylinder, and a planar or ruled face as a fan: within a fitting radius of a vertex on such
+//! a strip, the only vertices are a row along one rim. Their heights say nothing about the
+//! surface across the row, the fit is singular in that direction, and its curvature and
+//! extremalities are arbitrary (a cylinder's k_min 0.15 instead of 0, |e| ~ 1e5). The surface
+//! the mesh stands for is its triangles, so such a disc is sampled where the surface is: the
+//! weighted sum over samples stays a quadrature of `∫ K f dA` (see the parent module), now
+//! with the triangles' area elements instead of the vertices' barycentric areas.
+//!
+//! **When.** Only where vertex sampling fails: the disc's vertices, with their weights and
+//! projected on the tangent plane, lie along a strip (the middle eigenvalue of their weighted
+//! second moment is below 2% of the largest), tested once the disc has grown to its minimal
+//! number of vertices: a row of vertices along the rim of a CAD strip or fan. A disc of a
+//! mesh that samples the surface in both directions never takes this path: its results are
+//! those of vertex sampling. The fit's residual does not count towards the noise level
+//! there: pieces of flat triangles are off a curved surface by the tessellation's chord
+//! error, which is not noise.
+//!
+//! **How.** The triangles are found breadth-first from the centre's triangles across edges
+//! that are not creases, keeping those that come within the radius of the centre. Each is
+//! cut into m² congruent triangles (m = ⌈4 L / r⌉ for its longest edge L, at most 64), and
+//! each piece is one sample at its centroid with its area as weight and the linear
+//! interpolation of its corners' simulated noise.
+
+use nalgebra::{Matrix3, SymmetricEigen};
+
+#[cfg(doc)]
+use super::JetFitOptions;
+use super::{Context, Sample, Scratch, kernel, next_stamp, simulated_noise};
+use crate::mesh::Vec3;
+use crate::spatial::closest_point_on_triangle;
+
+/// Ratio of the middle to the largest eigenvalue of the disc's weighted second moment below
+/// which its vertices are taken to lie along a strip. A full disc has 1, a half disc at a
+/// boundary 0.3, a quarter disc at a corner 0.2; a row of vertices along the rim of a CAD
+/// strip 0.0001, a cylinder cut into triangles 7 times longer than wide 0.005.
+const STRIP_RATIO: f64 = 0.02;
+
+/// Pieces per triangle side per radius.
+const PIECES_PER_RADIUS: f64 = 4.0;
+
+/// At most this many pieces along a triangle's side.
+const MAX_PIECES: usize = 64;
+
+/// Whether the weighted `points` (position, weight) lie along a strip: the middle eigenvalue
+/// of their weighted second moment is below [`STRIP_RATIO`] times the largest. Fewer than
+/// three points are not: such a disc grows (see [`JetFitOptions::min_points`]).
+fn is_strip(points: impl Iterator<Item = (Vec3, f64)> + Clone) -> bool {
+    let (sum, total, count) = points
+        .clone()
+        .fold((Vec3::zeros(), 0.0, 0usize), |(s, t, n), (p, w)| {
+            (s + p * w, t + w, n + 1)
+        });
+    if count < 3 || total <= 0.0 {
+        return false;
+    }
+    let mean = sum / total;
+    let moment = points.fold(Matrix3::zeros(), |m, (p, w)| {
+        let d = p - mean;
+        m + d * d.transpose() * w
+    });
+    let mut eigen = SymmetricEigen::new(moment).eigenvalues;
+    eigen.as_mut_slice().sort_unstable_by(|a, b| b.total_cmp(a));
+    eigen[1] < STRIP_RATIO * eigen[0]
+}
+
+impl Context<'_> {
+    /// Whether the disc of vertex `v` in `s` (radius `r`) is to be sampled on its triangles
+    /// (module docs, *When*).
+    pub(super) fn needs_triangle_samples(&self, v: u32, r: f64, s: &Scratch) -> bool {
+        let p = self.mesh.position(v);
+        // The vertices as the fit sees them: on the tangent plane (a row along a curved rim
+        // is a strip there, though not in space).
+        let normal = match self.split {
+            Some(split) if split.vertices[v as usize] => s.side_normal,
+            _ => self.normals[v as usize],
+        };
+        let n = normal.try_normalize(1e-300).unwrap_or_else(Vec3::zeros);
+        is_strip(s.disc.iter().map(|&q| {
+            let d = self.mesh.position(q) - p;
+            let weight = self.areas[q as usize] * kernel(d.norm_squared() / (r * r));
+            (d - n * d.dot(&n), weight)
+        }))
+    }
+
+    /// Samples the surface within `r` of vertex `v` on its triangles into `s.samples`' source
+    /// `s.points`, and returns the samples' kernel-weighted area normal.
+    pub(super) fn sample_triangles(&self, v: u32, r: f64, s: &mut Scratch) -> Vec3 {
+        let topo = self.mesh.topology();
+        let p = self.mesh.position(v);
+        let r2 = r * r;
+        let stamp = next_stamp(&mut s.face_marks, &mut s.face_stamp, self.mesh.num_faces());
+        s.faces.clear();
+        match self.split {
+            Some(split) if split.vertices[v as usize] => s
+                .faces
+                .extend(crate::lines::crease::widest_side(self.mesh, v, split.edges)),
+            _ => s.faces.extend_from_slice(topo.vertex_faces(v)),
+        }
+        for &f in &s.faces {
+            s.face_marks[f as usize] = stamp;
+        }
+        let mut head = 0;
+        while head < s.faces.len() {
+            let f = s.faces[head];
+            head += 1;
+            for e in topo.face_edges(f) {
+                if self.split.is_some_and(|split| split.edges[e as usize]) {
+                    continue;
+                }
+                for &g in topo.edge_faces(e) {
+                    if s.face_marks[g as usize] == stamp {
+                        continue;
+                    }
+                    s.face_marks[g as usize] = stamp;
+                    let corners = self.mesh.triangle(g as usize);
+                    if (closest_point_on_triangle(p, corners) - p).norm_squared() < r2 {
+                        s.faces.push(g);
+                    }
+                }
+            }
+        }
+        s.points.clear();
+        let mut normal = Vec3::zeros();
+        for &f in &s.faces {
+            let corners = self.mesh.triangle(f as usize);
+            let [a, b, c] = corners;
+            let area_vector = (b - a).cross(&(c - a)) / 2.0;
+            let longest = [(b - a), (c - b), (a - c)]
+                .iter()
+                .map(|d| d.norm())
+                .fold(0.0, f64::max);
+            let m = ((PIECES_PER_RADIUS * longest / r).ceil() as usize).clamp(1, MAX_PIECES);
+            let piece = area_vector.norm() / (m * m) as f64;
+            let unit = area_vector.try_normalize(0.0).unwrap_or_else(Vec3::zeros);
+            let noise = self.mesh.faces()[f as usize].map(simulated_noise);
+            let inv = 1.0 / m as f64;
+            // Piece centroids in barycentric coordinates (u, w) on b and c: the m² pieces of
+            // the regular subdivision, upright ones at (i + 1/3, j + 1/3) / m, inverted ones
+            // at (i + 2/3, j + 2/3) / m.
+            for i in 0..m {
+                for j in 0..m - i {
+                    let offsets: &[f64] = if i + j + 1 < m {
+                        &[1.0 / 3.0, 2.0 / 3.0]
+                    } else {
+                        &[1.0 / 3.0]
+                    };
+                    for &o in offsets {
+                        let (u, w) = ((i as f64 + o) * inv, (j as f64 + o) * inv);
+                        let x = a + (b - a) * u + (c - a) * w;
+                        let d2 = (x - p).norm_squared() / r2;
+                        if d2 >= 1.0 {
+                            continue;
+                        }
+                        normal += unit * (piece * kernel(d2));
+                        s.points.push(SurfacePoint {
+                            position: x,
+                            area: piece,
+                            noise: (1.0 - u - w) * noise[0] + u * noise[1] + w * noise[2],
+                        });
+                    }
+                }
+            }
+        }
+        normal
+    }
+}
+
+/// A point the fit samples: a vertex with its barycentric area, or a piece of a triangle.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct SurfacePoint {
+    pub position: Vec3,
+    pub area: f64,
+    /// Simulated unit noise of the height there ([`simulated_noise`]).
+    pub noise: f64,
+}
+
+impl SurfacePoint {
+    /// The sample this point makes in the frame (u, w, n) centred at `p`, scaled by `1 / r`.
+    pub(super) fn sample(&self, p: Vec3, [u, w, n]: [Vec3; 3], r: f64) -> Option<Sample> {
+        let d = (self.position - p) / r;
+        let weight = self.area * kernel(d.norm_squared());
+        (weight > 0.0).then(|| Sample {
+            x: d.dot(&u),
+            y: d.dot(&w),
+            z: d.dot(&n),
+            w: weight,
+            xi: self.noise / r,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_of_points_are_strips_and_discs_are_not() {
+        let row = (0..10).map(|i| (Vec3::new(i as f64, 0.01 * (i as f64).powi(2), 0.0), 1.0));
+        assert!(is_strip(row.clone()));
+        let disc = (0..10).map(|i| {
+            let t = i as f64 * 0.7;
+            (
+                Vec3::new(t.cos(), t.sin(), 0.0) * (1.0 + 0.1 * i as f64),
+                1.0,
+            )
+        });
+        assert!(!is_strip(disc));
+        // Points off the row with next to no weight leave it a strip.
+        let faint = (0..4).map(|i| (Vec3::new(i as f64, 3.0, 0.0), 1e-4));
+        assert!(is_strip(row.chain(faint)));
+        assert!(!is_strip(
+            [(Vec3::zeros(), 1.0), (Vec3::x(), 1.0)].into_iter()
+        ));
+    }
+}
