@@ -84,7 +84,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::mesh::Topology;
-use crate::mesh::split_rows;
+use crate::slices::split_rows;
 
 /// Rows per parallel work item (fixed so that sums do not depend on the thread count).
 const CHUNK: usize = 2048;

@@ -27,7 +27,8 @@ pub mod surface;
 use rayon::prelude::*;
 
 use crate::error::Result;
-use crate::mesh::{TriMesh, Vec3, split_at};
+use crate::mesh::{TriMesh, Vec3};
+use crate::slices::split_at;
 
 pub use cholesky::{CholeskySystem, DiffusionPattern};
 pub use conjugate_gradient::{
