@@ -263,13 +263,6 @@ impl Topology {
             [self.vertex_edge_offsets[v] as usize..self.vertex_edge_offsets[v + 1] as usize]
     }
 
-    /// The vertex → edge lists of every vertex, one after the other, and their offsets
-    /// (`vertex_edges(v)` is `lists[offsets[v]..offsets[v + 1]]`), for arrays laid out per
-    /// entry of these lists.
-    pub(crate) fn vertex_edge_rows(&self) -> (&[u32], &[u32]) {
-        (&self.vertex_edge_offsets, &self.vertex_edges)
-    }
-
     /// Neighbours of `v` (each once), in increasing order.
     pub fn neighbors(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
         self.vertex_edges(v).iter().map(move |&e| {
