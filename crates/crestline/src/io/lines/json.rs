@@ -32,7 +32,7 @@ struct JsonLineIn {
 /// errors.
 ///
 /// # Errors
-/// [`Error::Parse`] naming `name` and the line of the fault, or the line of the file whose
+/// [`Error::Parse`](crate::error::Error::Parse) naming `name` and the line of the fault, or the line of the file whose
 /// `kind` is unknown.
 pub fn parse_lines_json(bytes: &[u8], name: &Path) -> Result<FeatureLines> {
     let source = Source::new(name);

@@ -15,7 +15,7 @@ use crate::mesh::Vec3;
 /// them, in any encoding); `name` labels errors.
 ///
 /// # Errors
-/// [`Error::Parse`] naming `name` and the position of the fault.
+/// [`Error::Parse`](crate::error::Error::Parse) naming `name` and the position of the fault.
 pub fn parse_lines_ply(bytes: &[u8], name: &Path) -> Result<FeatureLines> {
     let source = Source::new(name);
     if bytes.is_empty() {
