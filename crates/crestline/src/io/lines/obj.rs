@@ -7,7 +7,7 @@ use super::{GROUP_NAMES, class_counts, class_of, read_line};
 use crate::error::{Error, Result};
 use crate::io::text::{Lines, Source, Tokens, parse_i64, show, strip_bom, vertex};
 use crate::io::write_f64;
-use crate::lines::{FeatureLines, LineKind};
+use crate::lines::{FeatureLine, FeatureLines, LineKind};
 use crate::mesh::Vec3;
 
 /// Writes OBJ polylines: `o ridges`, `o valleys`, `o crease-ridges`, then `o crease-valleys`,
@@ -119,41 +119,8 @@ pub fn parse_lines_obj(bytes: &[u8], name: &Path) -> Result<FeatureLines> {
                 crease = has(b"crease");
             }
             Some(b"l") => {
-                let mut indices = Vec::new();
-                for token in tokens {
-                    let digits = token.split(|&b| b == b'/').next().unwrap_or_default();
-                    let i = parse_i64(digits).ok_or_else(|| {
-                        source.at_line(
-                            line,
-                            format!(
-                                "non-numeric token '{}' where a vertex index was expected",
-                                show(token)
-                            ),
-                        )
-                    })?;
-                    let index = match i {
-                        0 => Err("vertex index 0 (OBJ indices start at 1)".to_string()),
-                        i if i > 0 => Ok((i - 1) as usize),
-                        i => usize::try_from(positions.len() as i64 + i).map_err(|_| {
-                            format!(
-                                "relative vertex index {i} reaches before the first vertex \
-                                 (only {} read so far)",
-                                positions.len()
-                            )
-                        }),
-                    }
+                let indices = polyline_indices(tokens, positions.len())
                     .map_err(|m| source.at_line(line, m))?;
-                    indices.push(index);
-                }
-                if indices.len() < 2 {
-                    return Err(source.at_line(
-                        line,
-                        format!(
-                            "polyline with {} vertices (at least 2 needed)",
-                            indices.len()
-                        ),
-                    ));
-                }
                 polylines.push(ObjPolyline {
                     line,
                     kind,
@@ -183,39 +150,7 @@ pub fn parse_lines_obj(bytes: &[u8], name: &Path) -> Result<FeatureLines> {
         )));
     }
 
-    let mut lines = Vec::with_capacity(polylines.len());
-    for ObjPolyline {
-        line,
-        kind,
-        crease,
-        strengths: [strength, curvature_integral],
-        mut indices,
-    } in polylines
-    {
-        if let Some(&bad) = indices.iter().find(|&&i| i >= positions.len()) {
-            return Err(source.at_line(
-                line,
-                format!(
-                    "vertex index {} out of range (the file has {} vertices)",
-                    bad + 1,
-                    positions.len()
-                ),
-            ));
-        }
-        let closed = indices.len() >= 3 && indices.first() == indices.last();
-        if closed {
-            indices.pop();
-        }
-        let points: Vec<Vec3> = indices.iter().map(|&i| Vec3::from(positions[i])).collect();
-        lines.push(read_line(
-            kind,
-            crease,
-            points,
-            closed,
-            strength,
-            curvature_integral,
-        ));
-    }
+    let lines = resolve(polylines, &positions, source)?;
     Ok(FeatureLines { lines })
 }
 
@@ -280,4 +215,79 @@ fn strength_comment(rest: &[u8]) -> Option<[f64; 2]> {
     }
     let integral = crate::io::text::parse_f64(tokens.next()?)?;
     Some([strength, integral])
+}
+
+/// The 0-based vertex indices of an `l` record's `tokens`, `read` vertices having been read
+/// so far (relative indices count back from there).
+fn polyline_indices(tokens: Tokens<'_>, read: usize) -> std::result::Result<Vec<usize>, String> {
+    let mut indices = Vec::new();
+    for token in tokens {
+        let digits = token.split(|&b| b == b'/').next().unwrap_or_default();
+        let i = parse_i64(digits).ok_or_else(|| {
+            format!(
+                "non-numeric token '{}' where a vertex index was expected",
+                show(token)
+            )
+        })?;
+        let index = match i {
+            0 => Err("vertex index 0 (OBJ indices start at 1)".to_string()),
+            i if i > 0 => Ok((i - 1) as usize),
+            i => usize::try_from(read as i64 + i).map_err(|_| {
+                format!(
+                    "relative vertex index {i} reaches before the first vertex \
+                     (only {read} read so far)"
+                )
+            }),
+        }?;
+        indices.push(index);
+    }
+    if indices.len() < 2 {
+        return Err(format!(
+            "polyline with {} vertices (at least 2 needed)",
+            indices.len()
+        ));
+    }
+    Ok(indices)
+}
+
+/// The polylines with their indices resolved to points, once every vertex is known.
+fn resolve(
+    polylines: Vec<ObjPolyline>,
+    positions: &[[f64; 3]],
+    source: Source<'_>,
+) -> Result<Vec<FeatureLine>> {
+    let mut lines = Vec::with_capacity(polylines.len());
+    for ObjPolyline {
+        line,
+        kind,
+        crease,
+        strengths: [strength, curvature_integral],
+        mut indices,
+    } in polylines
+    {
+        if let Some(&bad) = indices.iter().find(|&&i| i >= positions.len()) {
+            return Err(source.at_line(
+                line,
+                format!(
+                    "vertex index {} out of range (the file has {} vertices)",
+                    bad + 1,
+                    positions.len()
+                ),
+            ));
+        }
+        let closed = indices.len() >= 3 && indices.first() == indices.last();
+        if closed {
+            indices.pop();
+        }
+        let points: Vec<Vec3> = indices.iter().map(|&i| Vec3::from(positions[i])).collect();
+        lines.push(read_line(
+            kind,
+            crease,
+            points,
+            closed,
+            strength,
+            curvature_integral,
+        ));
+    }
+    Ok(lines)
 }
