@@ -119,6 +119,54 @@ pub(super) struct Header {
     pub(super) body_line: usize,
 }
 
+/// An `element` line after its keyword: a name and a count.
+fn parse_element<'a>(mut tokens: impl Iterator<Item = &'a [u8]>) -> Result<Element, String> {
+    let (Some(name), Some(count)) = (tokens.next(), tokens.next()) else {
+        return Err("element needs a name and a count".into());
+    };
+    let count = parse_i64(count)
+        .and_then(|c| usize::try_from(c).ok())
+        .ok_or_else(|| {
+            format!(
+                "element count '{}' is not a non-negative integer",
+                show(count)
+            )
+        })?;
+    Ok(Element {
+        name: String::from_utf8_lossy(name).into_owned(),
+        count,
+        properties: Vec::new(),
+    })
+}
+
+/// A `property` line after its keyword: a scalar type or `list` with a count and an item
+/// type, then a name.
+fn parse_property<'a>(mut tokens: impl Iterator<Item = &'a [u8]>) -> Result<Property, String> {
+    let scalar = |token: Option<&[u8]>| {
+        let token = token.unwrap_or_default();
+        Scalar::from_name(token).ok_or_else(|| format!("unknown property type '{}'", show(token)))
+    };
+    let first = tokens.next();
+    let kind = if first == Some(b"list") {
+        let count = scalar(tokens.next())?;
+        let item = scalar(tokens.next())?;
+        if !count.is_integer() {
+            return Err("a list's count type must be an integer type".into());
+        }
+        Kind::List { count, item }
+    } else {
+        Kind::Scalar(scalar(first)?)
+    };
+    let Some(name) = tokens.next() else {
+        return Err("property without a name".into());
+    };
+    Ok(Property {
+        name: String::from_utf8_lossy(name).into_owned(),
+        kind,
+        role: Role::Skip,
+    })
+}
+
 pub(super) fn parse_header(bytes: &[u8], source: Source<'_>) -> Result<Header> {
     let malformed =
         |line: usize, message: String| source.at_line(line, format!("malformed header: {message}"));
@@ -162,58 +210,14 @@ pub(super) fn parse_header(bytes: &[u8], source: Source<'_>) -> Result<Header> {
                 });
             }
             b"element" => {
-                let (Some(name), Some(count)) = (tokens.next(), tokens.next()) else {
-                    return Err(malformed(line, "element needs a name and a count".into()));
-                };
-                let count = parse_i64(count)
-                    .and_then(|c| usize::try_from(c).ok())
-                    .ok_or_else(|| {
-                        malformed(
-                            line,
-                            format!(
-                                "element count '{}' is not a non-negative integer",
-                                show(count)
-                            ),
-                        )
-                    })?;
-                elements.push(Element {
-                    name: String::from_utf8_lossy(name).into_owned(),
-                    count,
-                    properties: Vec::new(),
-                });
+                elements.push(parse_element(tokens).map_err(|m| malformed(line, m))?);
             }
             b"property" => {
                 let Some(element) = elements.last_mut() else {
                     return Err(malformed(line, "property before any element".into()));
                 };
-                let scalar = |token: Option<&[u8]>| {
-                    let token = token.unwrap_or_default();
-                    Scalar::from_name(token).ok_or_else(|| {
-                        malformed(line, format!("unknown property type '{}'", show(token)))
-                    })
-                };
-                let first = tokens.next();
-                let kind = if first == Some(b"list") {
-                    let count = scalar(tokens.next())?;
-                    let item = scalar(tokens.next())?;
-                    if !count.is_integer() {
-                        return Err(malformed(
-                            line,
-                            "a list's count type must be an integer type".into(),
-                        ));
-                    }
-                    Kind::List { count, item }
-                } else {
-                    Kind::Scalar(scalar(first)?)
-                };
-                let Some(name) = tokens.next() else {
-                    return Err(malformed(line, "property without a name".into()));
-                };
-                element.properties.push(Property {
-                    name: String::from_utf8_lossy(name).into_owned(),
-                    kind,
-                    role: Role::Skip,
-                });
+                let property = parse_property(tokens).map_err(|m| malformed(line, m))?;
+                element.properties.push(property);
             }
             b"end_header" => {
                 end = Some(line);
