@@ -16,8 +16,8 @@ mod common;
 
 use crestline::TriMesh;
 use crestline::curvature::{ShapeOperatorOptions, shape_operator};
+use crestline::smoothing::ConjugateGradientOptions;
 use crestline::smoothing::LinearSolver;
-use crestline::smoothing::conjugate_gradient::{ConjugateGradientOptions, Preconditioner};
 use crestline::smoothing::extremality::{ExtremalitySmoothing, smooth_extremalities};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 
@@ -29,13 +29,10 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("extremality_smoothing");
     group.sample_size(10);
     let solvers = [
-        ("pcg_jacobi", LinearSolver::DEFAULT),
+        ("pcg_mixed_precision", LinearSolver::DEFAULT),
         (
-            "pcg_gauss_seidel",
-            LinearSolver::ConjugateGradient(
-                ConjugateGradientOptions::DEFAULT
-                    .with_preconditioner(Preconditioner::SymmetricGaussSeidel),
-            ),
+            "pcg_plain",
+            LinearSolver::PlainConjugateGradient(ConjugateGradientOptions::DEFAULT),
         ),
         ("cholesky", LinearSolver::Cholesky),
     ];

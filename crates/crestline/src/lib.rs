@@ -70,6 +70,7 @@ pub mod render;
 pub mod saliency;
 pub mod shapes;
 pub mod simplify;
+mod slices;
 pub mod smoothing;
 pub mod spatial;
 pub mod threshold;

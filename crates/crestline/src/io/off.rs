@@ -48,63 +48,9 @@ fn default_chunk_bytes(len: usize) -> usize {
 fn parse_with_chunks(bytes: &[u8], source: Source<'_>, chunk_bytes: usize) -> Result<MeshData> {
     // Only lines with content matter: comments and blank lines are dropped here.
     let mut raw = Lines::new(bytes);
+    let (vertex_count, face_count) = read_counts(bytes, &mut raw, source)?;
     // Counted only for an error message (a whole pass over the file).
     let last_line = || Lines::new(bytes).count().max(1);
-
-    let Some((line, first, mut rest)) = next_content(&mut raw) else {
-        return Err(source.whole("empty file"));
-    };
-    // The counts: after the header keyword on its line, on the next line, or (no header)
-    // on the first line.
-    let mut counts: Vec<(usize, &[u8])> = Vec::with_capacity(3);
-    if first.ends_with(b"OFF") {
-        let prefix = &first[..first.len() - 3];
-        check_header_prefix(prefix).map_err(|m| source.at_line(line, m))?;
-        counts.extend(rest.map(|t| (line, t)));
-        if counts.is_empty() {
-            let Some((line, first, rest)) = next_content(&mut raw) else {
-                return Err(source.at_line(last_line(), "missing counts line after OFF header"));
-            };
-            counts.push((line, first));
-            counts.extend(rest.map(|t| (line, t)));
-        }
-    } else if parse_i64(first).is_some() {
-        counts.push((line, first));
-        counts.extend(rest.by_ref().map(|t| (line, t)));
-    } else {
-        return Err(source.at_line(
-            line,
-            format!(
-                "malformed header: '{}' is neither an OFF keyword nor a vertex count",
-                show(first)
-            ),
-        ));
-    }
-    let count = |k: usize, what: &str| -> Result<usize> {
-        let Some(&(line, token)) = counts.get(k) else {
-            let line = counts.first().map_or(line, |c| c.0);
-            return Err(source.at_line(line, format!("malformed header: missing {what} count")));
-        };
-        parse_i64(token)
-            .and_then(|c| usize::try_from(c).ok())
-            .ok_or_else(|| {
-                source.at_line(
-                    line,
-                    format!(
-                        "malformed header: {what} count '{}' is not a non-negative integer",
-                        show(token)
-                    ),
-                )
-            })
-    };
-    let vertex_count = count(0, "vertex")?;
-    let face_count = count(1, "face")?;
-    if vertex_count > u32::MAX as usize {
-        return Err(source.at_line(
-            counts[0].0,
-            format!("{vertex_count} vertices is more than the 2^32-1 crestline indexes"),
-        ));
-    }
 
     let body = Body {
         bytes,
@@ -160,6 +106,68 @@ fn parse_with_chunks(bytes: &[u8], source: Source<'_>, chunk_bytes: usize) -> Re
         ));
     }
     Ok(MeshData { positions, faces })
+}
+
+/// The vertex and face counts of the header, read from `raw` (which is left at the body).
+fn read_counts(bytes: &[u8], raw: &mut Lines<'_>, source: Source<'_>) -> Result<(usize, usize)> {
+    // Counted only for an error message (a whole pass over the file).
+    let last_line = || Lines::new(bytes).count().max(1);
+
+    let Some((line, first, mut rest)) = next_content(raw) else {
+        return Err(source.whole("empty file"));
+    };
+    // The counts: after the header keyword on its line, on the next line, or (no header)
+    // on the first line.
+    let mut counts: Vec<(usize, &[u8])> = Vec::with_capacity(3);
+    if first.ends_with(b"OFF") {
+        let prefix = &first[..first.len() - 3];
+        check_header_prefix(prefix).map_err(|m| source.at_line(line, m))?;
+        counts.extend(rest.map(|t| (line, t)));
+        if counts.is_empty() {
+            let Some((line, first, rest)) = next_content(raw) else {
+                return Err(source.at_line(last_line(), "missing counts line after OFF header"));
+            };
+            counts.push((line, first));
+            counts.extend(rest.map(|t| (line, t)));
+        }
+    } else if parse_i64(first).is_some() {
+        counts.push((line, first));
+        counts.extend(rest.by_ref().map(|t| (line, t)));
+    } else {
+        return Err(source.at_line(
+            line,
+            format!(
+                "malformed header: '{}' is neither an OFF keyword nor a vertex count",
+                show(first)
+            ),
+        ));
+    }
+    let count = |k: usize, what: &str| -> Result<usize> {
+        let Some(&(line, token)) = counts.get(k) else {
+            let line = counts.first().map_or(line, |c| c.0);
+            return Err(source.at_line(line, format!("malformed header: missing {what} count")));
+        };
+        parse_i64(token)
+            .and_then(|c| usize::try_from(c).ok())
+            .ok_or_else(|| {
+                source.at_line(
+                    line,
+                    format!(
+                        "malformed header: {what} count '{}' is not a non-negative integer",
+                        show(token)
+                    ),
+                )
+            })
+    };
+    let vertex_count = count(0, "vertex")?;
+    let face_count = count(1, "face")?;
+    if vertex_count > u32::MAX as usize {
+        return Err(source.at_line(
+            counts[0].0,
+            format!("{vertex_count} vertices is more than the 2^32-1 crestline indexes"),
+        ));
+    }
+    Ok((vertex_count, face_count))
 }
 
 /// The next line with content: its number, first token and the rest of its tokens.

@@ -25,7 +25,6 @@ pub use info::MeshInfo;
 pub use orient::{Orientation, orient_outward, orientation, signed_volume};
 pub use subdivide::{SubdivideOptions, loop_subdivide};
 pub use topology::{EdgeKind, Topology, VertexKind};
-pub(crate) use topology::{split_at, split_rows};
 
 use std::sync::Arc;
 

@@ -5,9 +5,9 @@
 //! principal direction. HPW smooth them with the modified Laplacian
 //! `Δe(p) = Σ_q w_pq (σ_pq e(q) − e(p))`, `σ_pq = sign⟨dir(p), dir(q)⟩`, which works on the
 //! whole mesh (singular triangles included). Here each step is implicit,
-//! `(M + t L_σ) e' = M e` (see [`super::DiffusionOperator`]); the two families share the
-//! weights, differ in their signs, and are solved together (by default with conjugate
-//! gradients, [`super::conjugate_gradient`]).
+//! `(M + t L_σ) e' = M e` ([`super::system`], solved through [`super::DiffusionOperator`]);
+//! the two families share the weights, differ in their signs, and are solved together (by
+//! default with conjugate gradients in mixed precision, [`super::mixed_precision`]).
 //!
 //! The result does not depend on the initial choice of signs: flipping `dir(p)` flips `e(p)`
 //! and every `σ_pq` at `p`, i.e. conjugates the system by a diagonal ±1 matrix.

@@ -1,0 +1,180 @@
+use super::*;
+use crate::mesh::TriMesh;
+use crate::shapes;
+use crate::smoothing::{cotan_weights, lumped_mass};
+
+fn system<'m>(
+    mesh: &'m TriMesh,
+    time: f64,
+    flips: &[Option<&[bool]>],
+    options: ConjugateGradientOptions,
+) -> ConnectionSystem<'m> {
+    let w = cotan_weights(mesh, mesh.positions());
+    let m = lumped_mass(mesh, mesh.positions());
+    ConnectionSystem::new(mesh.topology(), w, m, time, flips, options).unwrap()
+}
+
+/// `(M + t L_σ) u` at every vertex, written out from the definition, with the weights
+/// in the single precision the system stores.
+fn apply(mesh: &TriMesh, time: f64, flips: Option<&[bool]>, u: &[f64]) -> Vec<f64> {
+    let mut w = cotan_weights(mesh, mesh.positions());
+    round_weights(&mut w);
+    let m = lumped_mass(mesh, mesh.positions());
+    let topo = mesh.topology();
+    (0..mesh.num_vertices())
+        .map(|v| {
+            let mut out = m[v] * u[v];
+            for &e in topo.vertex_edges(v as u32) {
+                let [a, b] = topo.edge(e);
+                let q = if a as usize == v { b } else { a } as usize;
+                let sigma = if flips.is_some_and(|f| f[e as usize]) {
+                    -1.0
+                } else {
+                    1.0
+                };
+                out += time * w[e as usize] * (u[v] - sigma * u[q]);
+            }
+            out
+        })
+        .collect()
+}
+
+#[test]
+fn solution_satisfies_the_system() {
+    let mesh = shapes::torus(3.0, 1.0, 30, 12);
+    let flips: Vec<bool> = (0..mesh.topology().num_edges())
+        .map(|e| e % 3 == 0)
+        .collect();
+    let mass = lumped_mass(&mesh, mesh.positions());
+    let u0: Vec<f64> = mesh.positions().iter().map(|p| p.x.sin() + p.z).collect();
+    let rhs: Vec<f64> = u0.iter().zip(&mass).map(|(u, m)| u * m).collect();
+    let scale = rhs.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+    for time in [0.01, 0.3] {
+        let options = ConjugateGradientOptions::DEFAULT.with_tolerance(1e-12);
+        let sys = system(&mesh, time, &[None, Some(&flips)], options);
+        let (mut a, mut b) = (u0.clone(), u0.clone());
+        let iterations = sys.step(&mut [&mut a, &mut b]).unwrap();
+        assert!(iterations > 0);
+        for (u, f) in [(&a, None), (&b, Some(flips.as_slice()))] {
+            let lhs = apply(&mesh, time, f, u);
+            let worst = lhs
+                .iter()
+                .zip(&rhs)
+                .fold(0.0f64, |s, (l, r)| s.max((l - r).abs()));
+            assert!(worst < 1e-9 * scale, "t = {time}: residual {worst:e}");
+        }
+    }
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let mesh = shapes::torus(3.0, 1.0, 60, 24);
+    let flips: Vec<bool> = (0..mesh.topology().num_edges())
+        .map(|e| e % 7 == 0)
+        .collect();
+    let u0: Vec<f64> = mesh
+        .positions()
+        .iter()
+        .map(|p| (3.0 * p.x).sin() * p.z)
+        .collect();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let options = ConjugateGradientOptions::DEFAULT;
+            let sys = system(&mesh, 0.05, &[Some(&flips), None], options);
+            let (mut a, mut b) = (u0.clone(), u0.clone());
+            sys.step(&mut [&mut a, &mut b]).unwrap();
+            (a, b)
+        })
+    };
+    assert_eq!(run(1), run(3));
+}
+
+#[test]
+fn a_cold_field_starts_at_zero_even_when_no_round_runs() {
+    // A rough field under a long step is further from the solution than zero, so it starts
+    // at zero; with a tolerance that zero already meets, that is the result.
+    let m = shapes::torus(3.0, 1.0, 24, 12);
+    let rough: Vec<f64> = (0..m.num_vertices())
+        .map(|v| if v % 2 == 0 { 1.0 } else { -1.0 })
+        .collect();
+    let h = crate::mesh::mean_edge_length(&m);
+    for tolerance in [2.0, 1e-8] {
+        let options = ConjugateGradientOptions::DEFAULT.with_tolerance(tolerance);
+        let s = system(&m, 50.0 * h * h, &[None], options);
+        let mut x = rough.clone();
+        let iterations = s.step(&mut [&mut x]).unwrap();
+        if tolerance > 1.0 {
+            assert_eq!(iterations, 0);
+            assert!(x.iter().all(|&v| v == 0.0));
+        } else {
+            assert!(iterations > 0);
+            let exact = apply(&m, 50.0 * h * h, None, &x);
+            let mass = lumped_mass(&m, m.positions());
+            for v in 0..m.num_vertices() {
+                let b = mass[v] * rough[v];
+                assert!((exact[v] - b).abs() < 1e-6 * mass[v], "{v}");
+            }
+        }
+    }
+}
+
+#[test]
+fn iteration_limit_is_an_error() {
+    let mesh = shapes::torus(3.0, 1.0, 30, 12);
+    let options = ConjugateGradientOptions::DEFAULT
+        .with_tolerance(1e-14)
+        .with_max_iterations(2);
+    let sys = system(&mesh, 0.3, &[None], options);
+    let mut u: Vec<f64> = mesh.positions().iter().map(|p| p.x * p.y).collect();
+    let err = sys.step(&mut [&mut u]).unwrap_err();
+    assert!(matches!(err, Error::Solver(_)), "{err}");
+    assert!(err.to_string().contains("did not converge"), "{err}");
+}
+
+#[test]
+fn non_finite_values_are_an_error_not_a_panic() {
+    let mesh = shapes::torus(3.0, 1.0, 10, 6);
+    let options = ConjugateGradientOptions::DEFAULT;
+    let sys = system(&mesh, 0.3, &[None], options);
+    for bad in [f64::NAN, f64::INFINITY] {
+        let mut u = vec![1.0; mesh.num_vertices()];
+        u[3] = bad;
+        let result = sys.step(&mut [&mut u]);
+        assert!(matches!(result, Err(Error::Solver(_))), "{result:?}");
+    }
+}
+
+#[test]
+fn rejects_bad_input() {
+    let mesh = shapes::torus(3.0, 1.0, 10, 6);
+    let w = cotan_weights(&mesh, mesh.positions());
+    let m = lumped_mass(&mesh, mesh.positions());
+    let topo = mesh.topology();
+    let ok = ConjugateGradientOptions::DEFAULT;
+    let new = |w: &[f64], m: &[f64], fields: &[Option<&[bool]>], o| {
+        ConnectionSystem::new(topo, w.to_vec(), m.to_vec(), 1.0, fields, o)
+    };
+    assert!(new(&w, &m, &[None], ok.with_tolerance(0.0)).is_err());
+    assert!(new(&w, &m, &[None], ok.with_max_iterations(0)).is_err());
+    assert!(new(&w, &m, &[], ok).is_err());
+    assert!(new(&w, &m, &[None; MAX_FIELDS + 1], ok).is_err());
+    assert!(new(&w[1..], &m, &[None], ok).is_err());
+    assert!(new(&w, &m, &[Some(&[true; 3])], ok).is_err());
+    let mut negative = w.clone();
+    negative[0] = -1.0;
+    assert!(new(&negative, &m, &[None], ok).is_err());
+    let mut zero_mass = m.clone();
+    zero_mass[0] = 0.0;
+    assert!(new(&w, &zero_mass, &[None], ok).is_err());
+    let sys = new(&w, &m, &[None, None], ok).unwrap();
+    let mut u = vec![0.0; mesh.num_vertices()];
+    assert!(sys.step(&mut [&mut u]).is_err());
+    assert!(
+        sys.step(&mut [&mut u[1..].to_vec(), &mut u.clone()])
+            .is_err()
+    );
+}
