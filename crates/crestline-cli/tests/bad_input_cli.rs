@@ -199,3 +199,111 @@ fn awkward_meshes_run_through_extract() {
         }
     }
 }
+
+/// fandisk subdivided `levels` times (4^levels times its 12,946 triangles) as binary PLY in
+/// `dir`: a mesh that takes the pipeline long enough to be stopped midway.
+fn big_fandisk(dir: &Path, levels: &str) -> std::path::PathBuf {
+    let fandisk =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+    let big = dir.join(format!("fandisk-{levels}.ply"));
+    let run = crestline(&[
+        "subdivide",
+        s(&fandisk),
+        "-o",
+        s(&big),
+        "--levels",
+        levels,
+        "-q",
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    big
+}
+
+/// Sends `signal` (a name `kill` knows: INT, TERM, HUP) to `child`.
+fn send(signal: &str, child: &std::process::Child) {
+    let kill = Command::new("kill")
+        .args([format!("-{signal}"), child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success(), "kill -{signal}");
+}
+
+/// The files of `dir` apart from the ones in `keep`.
+fn left_in(dir: &Path, keep: &[&Path]) -> Vec<String> {
+    let keep: Vec<String> = keep
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    listing(dir)
+        .into_iter()
+        .filter(|name| !keep.contains(name))
+        .collect()
+}
+
+#[test]
+fn ctrl_c_during_the_work_leaves_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = big_fandisk(dir.path(), "3");
+    for (signal, status) in [("INT", 130), ("HUP", 129)] {
+        let out = dir.path().join("lines.obj");
+        let child = Command::new(env!("CARGO_BIN_EXE_crestline"))
+            .args(["extract", s(&mesh), "-o", s(&out), "-q"])
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // 830k triangles keep the pipeline busy for far longer than this; a run that ended
+        // before the signal would leave its output and fail the checks below.
+        std::thread::sleep(std::time::Duration::from_millis(1500));
+        send(signal, &child);
+        let run = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(status), "SIG{signal}: {stderr}");
+        assert!(stderr.contains("interrupted"), "{stderr}");
+        assert!(left_in(dir.path(), &[&mesh]).is_empty(), "SIG{signal}");
+    }
+}
+
+#[test]
+fn a_signal_while_writing_removes_the_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let fandisk =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    let out = out_dir.join("fine.obj");
+    // 830k triangles written as text: tens of megabytes, the write takes a while.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args([
+            "subdivide",
+            s(&fandisk),
+            "-o",
+            s(&out),
+            "--levels",
+            "3",
+            "-q",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The signal goes once the temporary file is there, that is while the mesh is written.
+    let mut seen = false;
+    while child.try_wait().unwrap().is_none() {
+        if listing(&out_dir).iter().any(|n| n.ends_with(".part")) {
+            seen = true;
+            send("TERM", &child);
+            break;
+        }
+    }
+    let run = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        seen,
+        "the run ended before its temporary file was seen: {stderr}"
+    );
+    assert_eq!(run.status.code(), Some(143), "{stderr}");
+    assert!(listing(&out_dir).is_empty(), "{:?}", listing(&out_dir));
+}
