@@ -307,3 +307,96 @@ fn a_signal_while_writing_removes_the_temporary_file() {
     assert_eq!(run.status.code(), Some(143), "{stderr}");
     assert!(listing(&out_dir).is_empty(), "{:?}", listing(&out_dir));
 }
+
+/// Every command that writes a file, with `OUT` standing for the output and `MESH` and
+/// `LINES` for inputs.
+const WRITERS: [&[&str]; 9] = [
+    &["extract", "MESH", "-o", "OUT"],
+    &["extract", "MESH", "-o", "lines.json", "--png", "OUT"],
+    &["curvature", "MESH", "-o", "OUT", "--csv"],
+    &["curvature", "MESH", "-o", "OUT"],
+    &[
+        "render", "MESH", "--lines", "LINES", "-o", "OUT", "--format", "png",
+    ],
+    &["render", "MESH", "-o", "OUT", "--format", "html"],
+    &["view", "MESH", "--lines", "LINES", "-o", "OUT"],
+    &["distance", "MESH", "--lines", "LINES", "-o", "OUT"],
+    &["simplify", "MESH", "-o", "OUT"],
+];
+
+/// `command` with `MESH`, `LINES` and `OUT` put in.
+fn with_paths(command: &[&str], mesh: &Path, lines: &Path, out: &Path) -> Vec<String> {
+    command
+        .iter()
+        .map(|a| match *a {
+            "MESH" => s(mesh).to_string(),
+            "LINES" => s(lines).to_string(),
+            "OUT" => s(out).to_string(),
+            other => other.to_string(),
+        })
+        .chain(["-q".to_string()])
+        .collect()
+}
+
+/// fandisk and its lines (JSON) in `dir`.
+fn fandisk_and_lines(dir: &Path) -> (std::path::PathBuf, std::path::PathBuf) {
+    let fandisk =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+    let mesh = dir.join("fandisk.obj");
+    std::fs::copy(fandisk, &mesh).unwrap();
+    let lines = dir.join("lines.json");
+    let run = crestline(&["extract", s(&mesh), "-o", s(&lines), "-q"]);
+    assert!(run.status.success());
+    (mesh, lines)
+}
+
+#[test]
+fn every_writer_leaves_nothing_when_its_folder_is_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, lines) = fandisk_and_lines(dir.path());
+    let before = listing(dir.path());
+    for command in WRITERS {
+        let out = dir.path().join("no/such/folder/out.ply");
+        let args = with_paths(command, &mesh, &lines, &out);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let run = crestline(&args);
+        failed_with(&run, &[s(&out)]);
+        assert_eq!(listing(dir.path()), before, "{command:?}");
+    }
+}
+
+#[test]
+fn every_writer_refuses_or_replaces_whole_an_output_that_is_an_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, lines) = fandisk_and_lines(dir.path());
+    let mesh_bytes = std::fs::read(&mesh).unwrap();
+    let lines_bytes = std::fs::read(&lines).unwrap();
+    for command in WRITERS {
+        for input in [&mesh, &lines] {
+            if input == &lines && !command.contains(&"LINES") {
+                continue;
+            }
+            let args = with_paths(command, &mesh, &lines, input);
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            let run = crestline(&args);
+            if command[0] == "simplify" {
+                // A mesh again: written in place, whole.
+                assert!(run.status.success(), "{command:?}");
+                assert!(crestline::io::read_mesh(&mesh, None).unwrap().num_faces() > 0);
+                std::fs::write(&mesh, &mesh_bytes).unwrap();
+            } else if command[0] == "distance" {
+                // Refused first for not ending in .ply.
+                failed_with(&run, &[s(input)]);
+            } else {
+                failed_with(&run, &[s(input), "the output is the input"]);
+            }
+            assert_eq!(std::fs::read(&mesh).unwrap(), mesh_bytes, "{command:?}");
+            assert_eq!(std::fs::read(&lines).unwrap(), lines_bytes, "{command:?}");
+            assert_eq!(
+                listing(dir.path()),
+                vec!["fandisk.obj", "lines.json"],
+                "{command:?}"
+            );
+        }
+    }
+}
