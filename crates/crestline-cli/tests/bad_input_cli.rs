@@ -312,7 +312,9 @@ fn a_signal_while_writing_removes_the_temporary_file() {
 /// `LINES` for inputs.
 const WRITERS: [&[&str]; 9] = [
     &["extract", "MESH", "-o", "OUT"],
-    &["extract", "MESH", "-o", "lines.json", "--png", "OUT"],
+    &[
+        "extract", "MESH", "-o", "-", "--format", "json", "--png", "OUT",
+    ],
     &["curvature", "MESH", "-o", "OUT", "--csv"],
     &["curvature", "MESH", "-o", "OUT"],
     &[
