@@ -6,6 +6,7 @@
 mod allocator;
 mod cmd;
 mod input;
+mod interrupt;
 mod output;
 mod progress;
 mod scene;
@@ -46,6 +47,7 @@ enum Command {
 
 fn main() -> std::process::ExitCode {
     allocator::return_large_blocks_when_freed();
+    interrupt::remove_partial_outputs_on_signals();
     let cli = Cli::parse();
     progress::set_quiet(cli.quiet);
     let result = match cli.command {

@@ -4,7 +4,7 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use anyhow::{Result, bail};
-use crestline::io::Format;
+use crestline::io::{Format, write_atomically};
 
 use crate::input::{FormatArg, is_dash};
 
@@ -17,6 +17,52 @@ pub fn to_stdout(write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> R
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         Err(e) => bail!("cannot write to standard output: {e}"),
+    }
+}
+
+/// Writes `path` all or nothing ([`crestline::io::write_atomically`]), or standard output for
+/// `-`.
+pub fn to_path_or_stdout(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
+    if is_dash(path) {
+        to_stdout(write)
+    } else {
+        Ok(write_atomically(path, |out| write(out))?)
+    }
+}
+
+/// Refuses to write `output` over one of `inputs` (the same file by any path or link):
+/// the command's result (feature lines, a picture, a table) would replace the file it was
+/// made from. `subdivide` and `simplify`, whose output is a mesh again, may write in place.
+pub fn refuse_overwriting_inputs(output: &Path, inputs: &[Option<&Path>]) -> Result<()> {
+    for input in inputs.iter().flatten() {
+        if !is_dash(output) && !is_dash(input) && same_file(output, input) {
+            bail!(
+                "{}: the output is the input {}: writing it would replace that file; choose \
+                 another output",
+                output.display(),
+                input.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// True when both paths exist and are the same file.
+fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (std::fs::metadata(a), std::fs::metadata(b)) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
     }
 }
 

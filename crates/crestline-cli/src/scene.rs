@@ -1,7 +1,7 @@
 //! What `crestline render` and `crestline view` show: a mesh, optional feature lines and an
 //! optional per-vertex field, and the view options they share.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
@@ -121,6 +121,14 @@ pub struct Scene {
 }
 
 impl SceneArgs {
+    /// Refuses an `output` that is the mesh or the lines file read.
+    pub fn refuse_overwriting_inputs(&self, output: &Path) -> Result<()> {
+        crate::output::refuse_overwriting_inputs(
+            output,
+            &[self.input.mesh.as_deref(), self.lines.as_deref()],
+        )
+    }
+
     /// Loads the mesh (oriented as for every command) and the lines and computes the field.
     pub fn load(&self) -> Result<Scene> {
         let (mesh, name) = progress::step("reading", || self.input.load())?;

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::ValueEnum;
 use crestline::curvature::{Curvature, CurvatureOptions, Estimator, estimate_split};
 use crestline::io::{PlyEncoding, PlyWriter, VertexProperty};
@@ -12,7 +12,7 @@ use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
 use crate::input::{MeshArgs, OrientArgs, is_dash, prepare_mesh};
-use crate::output::{display, to_stdout};
+use crate::output::{display, refuse_overwriting_inputs, to_path_or_stdout, to_stdout};
 use crate::progress::{self, note};
 
 /// The estimator.
@@ -113,6 +113,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.rings.is_some() && estimator != Estimator::CubicFit {
         bail!("--rings applies to --estimator cubic-fit only");
     }
+    refuse_overwriting_inputs(&args.output, &[args.input.mesh.as_deref()])?;
     let (mesh, name) = progress::step("reading", || args.input.load())?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let mut options = CurvatureOptions::default().with_estimator(estimator);
@@ -169,15 +170,7 @@ pub fn run(args: Args) -> Result<()> {
             }
             Ok(())
         };
-        if is_dash(&args.output) {
-            to_stdout(write_csv)?;
-        } else {
-            let file = std::fs::File::create(&args.output)
-                .with_context(|| format!("cannot create {}", args.output.display()))?;
-            let mut out = std::io::BufWriter::new(file);
-            write_csv(&mut out)?;
-            out.flush()?;
-        }
+        to_path_or_stdout(&args.output, write_csv)?;
     } else {
         let mut writer = PlyWriter::new(&mesh)
             .encoding(if args.ascii {

@@ -8,7 +8,7 @@ use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::io::{Format, PlyEncoding, PlyWriter, VertexProperty};
 
 use crate::input::{MeshArgs, OrientArgs, is_dash, load_lines, prepare_mesh};
-use crate::output::{display, to_stdout};
+use crate::output::{display, refuse_overwriting_inputs, to_stdout};
 use crate::progress::{self, note};
 
 /// Arguments of `crestline distance`.
@@ -44,6 +44,10 @@ pub fn run(args: Args) -> Result<()> {
             args.output.display()
         );
     }
+    refuse_overwriting_inputs(
+        &args.output,
+        &[args.input.mesh.as_deref(), args.lines.as_deref()],
+    )?;
     let (mesh, name) = progress::step("reading", || args.input.load())?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let lines = progress::step("feature lines", || load_lines(args.lines.as_deref(), &mesh))?;

@@ -22,7 +22,7 @@ use indicatif::ProgressBar;
 use super::batch;
 use super::curvature::EstimatorArg;
 use crate::input::{FormatArg, OrientArgs, is_dash, load_mesh, prepare_mesh};
-use crate::output::{display, to_stdout};
+use crate::output::{display, refuse_overwriting_inputs, to_stdout};
 use crate::progress::{self, note};
 
 /// Which pipeline runs.
@@ -169,6 +169,14 @@ pub fn run(args: Args) -> Result<()> {
     let output = output_path(&args, input)?;
     if is_dash(&output) && args.stats == Some(StatsFormat::Json) {
         bail!("--stats=json and -o - both write to standard output: choose one");
+    }
+    let written = [
+        Some(output.as_path()),
+        args.png.as_deref(),
+        args.svg.as_deref(),
+    ];
+    for written in written.into_iter().chain([args.html.as_deref()]).flatten() {
+        refuse_overwriting_inputs(written, &[input, args.mask.as_deref()])?;
     }
     let clock = Instant::now();
     let (mesh, name) = progress::step("reading", || load_mesh(input, args.input_format))?;

@@ -16,7 +16,7 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    let (mesh, name) = args.input.load()?;
+    let (mesh, name) = crate::progress::step("reading", || args.input.load())?;
     let info = mesh.info();
     if args.json {
         println!("{}", serde_json::to_string_pretty(&info)?);

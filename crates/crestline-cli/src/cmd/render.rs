@@ -8,7 +8,7 @@ use clap::ValueEnum;
 use crestline::render::{PictureFormat, render_html, render_png, render_svg, write_picture};
 
 use crate::input::is_dash;
-use crate::output::{display, to_stdout};
+use crate::output::{display, to_path_or_stdout};
 use crate::progress::{self, note};
 use crate::scene::{SceneArgs, parse_size};
 
@@ -61,6 +61,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     opts.legend = !args.no_legend;
     opts.validate()?;
+    args.scene.refuse_overwriting_inputs(&args.output)?;
     let scene = args.scene.load()?;
     let (mesh, lines, field) = (&scene.mesh, scene.lines.as_ref(), scene.field.as_deref());
     let picture = || -> Result<Vec<u8>> {
@@ -71,14 +72,10 @@ pub fn run(args: Args) -> Result<()> {
         })
     };
     progress::step("drawing", || -> Result<()> {
-        if is_dash(&args.output) {
-            let bytes = picture()?;
-            to_stdout(|out| out.write_all(&bytes))
-        } else if args.format.is_some() {
+        if is_dash(&args.output) || args.format.is_some() {
             // The format as given, whatever the extension.
             let bytes = picture()?;
-            std::fs::write(&args.output, bytes)
-                .with_context(|| format!("cannot write {}", args.output.display()))
+            to_path_or_stdout(&args.output, |out| out.write_all(&bytes))
         } else {
             write_picture(&args.output, mesh, lines, field, &opts)
                 .with_context(|| format!("cannot render {}", args.output.display()))

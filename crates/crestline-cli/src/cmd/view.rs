@@ -24,6 +24,7 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     let opts = args.scene.options();
     opts.validate()?;
+    args.scene.refuse_overwriting_inputs(&args.output)?;
     let scene = args.scene.load()?;
     let (mesh, lines, field) = (&scene.mesh, scene.lines.as_ref(), scene.field.as_deref());
     if is_dash(&args.output) {

@@ -199,3 +199,206 @@ fn awkward_meshes_run_through_extract() {
         }
     }
 }
+
+/// fandisk subdivided `levels` times (4^levels times its 12,946 triangles) as binary PLY in
+/// `dir`: a mesh that takes the pipeline long enough to be stopped midway.
+fn big_fandisk(dir: &Path, levels: &str) -> std::path::PathBuf {
+    let fandisk =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+    let big = dir.join(format!("fandisk-{levels}.ply"));
+    let run = crestline(&[
+        "subdivide",
+        s(&fandisk),
+        "-o",
+        s(&big),
+        "--levels",
+        levels,
+        "-q",
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    big
+}
+
+/// Sends `signal` (a name `kill` knows: INT, TERM, HUP) to `child`.
+fn send(signal: &str, child: &std::process::Child) {
+    let kill = Command::new("kill")
+        .args([format!("-{signal}"), child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success(), "kill -{signal}");
+}
+
+/// The files of `dir` apart from the ones in `keep`.
+fn left_in(dir: &Path, keep: &[&Path]) -> Vec<String> {
+    let keep: Vec<String> = keep
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    listing(dir)
+        .into_iter()
+        .filter(|name| !keep.contains(name))
+        .collect()
+}
+
+#[test]
+fn ctrl_c_during_the_work_leaves_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = big_fandisk(dir.path(), "3");
+    for (signal, status) in [("INT", 130), ("HUP", 129)] {
+        let out = dir.path().join("lines.obj");
+        let child = Command::new(env!("CARGO_BIN_EXE_crestline"))
+            .args(["extract", s(&mesh), "-o", s(&out), "-q"])
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // 830k triangles keep the pipeline busy for far longer than this; a run that ended
+        // before the signal would leave its output and fail the checks below.
+        std::thread::sleep(std::time::Duration::from_millis(1500));
+        send(signal, &child);
+        let run = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(status), "SIG{signal}: {stderr}");
+        assert!(stderr.contains("interrupted"), "{stderr}");
+        assert!(left_in(dir.path(), &[&mesh]).is_empty(), "SIG{signal}");
+    }
+}
+
+#[test]
+fn a_signal_while_writing_removes_the_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let fandisk =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    let out = out_dir.join("fine.obj");
+    // 830k triangles written as text: tens of megabytes, the write takes a while.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args([
+            "subdivide",
+            s(&fandisk),
+            "-o",
+            s(&out),
+            "--levels",
+            "3",
+            "-q",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The signal goes once the temporary file is there, that is while the mesh is written.
+    let mut seen = false;
+    while child.try_wait().unwrap().is_none() {
+        if listing(&out_dir).iter().any(|n| n.ends_with(".part")) {
+            seen = true;
+            send("TERM", &child);
+            break;
+        }
+    }
+    let run = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        seen,
+        "the run ended before its temporary file was seen: {stderr}"
+    );
+    assert_eq!(run.status.code(), Some(143), "{stderr}");
+    assert!(listing(&out_dir).is_empty(), "{:?}", listing(&out_dir));
+}
+
+/// Every command that writes a file, with `OUT` standing for the output and `MESH` and
+/// `LINES` for inputs.
+const WRITERS: [&[&str]; 9] = [
+    &["extract", "MESH", "-o", "OUT"],
+    &[
+        "extract", "MESH", "-o", "-", "--format", "json", "--png", "OUT",
+    ],
+    &["curvature", "MESH", "-o", "OUT", "--csv"],
+    &["curvature", "MESH", "-o", "OUT"],
+    &[
+        "render", "MESH", "--lines", "LINES", "-o", "OUT", "--format", "png",
+    ],
+    &["render", "MESH", "-o", "OUT", "--format", "html"],
+    &["view", "MESH", "--lines", "LINES", "-o", "OUT"],
+    &["distance", "MESH", "--lines", "LINES", "-o", "OUT"],
+    &["simplify", "MESH", "-o", "OUT"],
+];
+
+/// `command` with `MESH`, `LINES` and `OUT` put in.
+fn with_paths(command: &[&str], mesh: &Path, lines: &Path, out: &Path) -> Vec<String> {
+    command
+        .iter()
+        .map(|a| match *a {
+            "MESH" => s(mesh).to_string(),
+            "LINES" => s(lines).to_string(),
+            "OUT" => s(out).to_string(),
+            other => other.to_string(),
+        })
+        .chain(["-q".to_string()])
+        .collect()
+}
+
+/// fandisk and its lines (JSON) in `dir`.
+fn fandisk_and_lines(dir: &Path) -> (std::path::PathBuf, std::path::PathBuf) {
+    let fandisk =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+    let mesh = dir.join("fandisk.obj");
+    std::fs::copy(fandisk, &mesh).unwrap();
+    let lines = dir.join("lines.json");
+    let run = crestline(&["extract", s(&mesh), "-o", s(&lines), "-q"]);
+    assert!(run.status.success());
+    (mesh, lines)
+}
+
+#[test]
+fn every_writer_leaves_nothing_when_its_folder_is_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, lines) = fandisk_and_lines(dir.path());
+    let before = listing(dir.path());
+    for command in WRITERS {
+        let out = dir.path().join("no/such/folder/out.ply");
+        let args = with_paths(command, &mesh, &lines, &out);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let run = crestline(&args);
+        failed_with(&run, &[s(&out)]);
+        assert_eq!(listing(dir.path()), before, "{command:?}");
+    }
+}
+
+#[test]
+fn every_writer_refuses_or_replaces_whole_an_output_that_is_an_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, lines) = fandisk_and_lines(dir.path());
+    let mesh_bytes = std::fs::read(&mesh).unwrap();
+    let lines_bytes = std::fs::read(&lines).unwrap();
+    for command in WRITERS {
+        for input in [&mesh, &lines] {
+            if input == &lines && !command.contains(&"LINES") {
+                continue;
+            }
+            let args = with_paths(command, &mesh, &lines, input);
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            let run = crestline(&args);
+            if command[0] == "simplify" {
+                // A mesh again: written in place, whole.
+                assert!(run.status.success(), "{command:?}");
+                assert!(crestline::io::read_mesh(&mesh, None).unwrap().num_faces() > 0);
+                std::fs::write(&mesh, &mesh_bytes).unwrap();
+            } else if command[0] == "distance" {
+                // Refused first for not ending in .ply.
+                failed_with(&run, &[s(input)]);
+            } else {
+                failed_with(&run, &[s(input), "the output is the input"]);
+            }
+            assert_eq!(std::fs::read(&mesh).unwrap(), mesh_bytes, "{command:?}");
+            assert_eq!(std::fs::read(&lines).unwrap(), lines_bytes, "{command:?}");
+            assert_eq!(
+                listing(dir.path()),
+                vec!["fandisk.obj", "lines.json"],
+                "{command:?}"
+            );
+        }
+    }
+}

@@ -30,7 +30,8 @@ mod text;
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use crate::error::{Error, Location, Result};
 use crate::mesh::TriMesh;
@@ -311,11 +312,64 @@ pub fn write_atomically(
     }
     // Dropped on every early return, the temporary file removes itself.
     let temporary = builder.tempfile_in(folder).map_err(fail)?;
+    let in_flight = InFlight::register(temporary.path());
     let mut out = BufWriter::new(temporary.as_file());
     write(&mut out).and_then(|()| out.flush()).map_err(fail)?;
     drop(out);
+    // Under the lock, so that `abandon_writes` sees either the temporary file or the whole
+    // file in its place, never a rename half-way.
+    let writes = in_flight_writes();
+    if !writes.contains(&in_flight.0) {
+        return Err(fail(std::io::Error::new(
+            std::io::ErrorKind::Interrupted,
+            "interrupted: the write was abandoned",
+        )));
+    }
     temporary.persist(path).map_err(|e| fail(e.error))?;
+    drop(writes);
     Ok(())
+}
+
+/// Removes the temporary files of every write in progress (see [`write_atomically`]) and makes
+/// any write that has not yet renamed its file fail instead: for a program stopped by a signal,
+/// which ends without running destructors, so that it leaves no partial output behind. Safe to
+/// call from any thread (not from a signal handler itself: it takes a lock). Writes finished
+/// before the call keep their files; writes started after it are not affected.
+pub fn abandon_writes() {
+    let mut writes = in_flight_writes();
+    for temporary in writes.drain(..) {
+        // Already gone is fine: the write failed and removed it, or it never got that far.
+        let _ = std::fs::remove_file(temporary);
+    }
+}
+
+/// The temporary files of the writes in progress; a write whose file [`abandon_writes`] took
+/// off the list must not rename it.
+static IN_FLIGHT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The list of writes in progress, locked. A panic elsewhere while it was locked leaves it
+/// usable: each change to it is a single push or removal.
+fn in_flight_writes() -> MutexGuard<'static, Vec<PathBuf>> {
+    IN_FLIGHT.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// One temporary file in [`IN_FLIGHT`], from its creation until it is renamed or dropped.
+struct InFlight(PathBuf);
+
+impl InFlight {
+    fn register(temporary: &Path) -> InFlight {
+        in_flight_writes().push(temporary.to_path_buf());
+        InFlight(temporary.to_path_buf())
+    }
+}
+
+impl Drop for InFlight {
+    fn drop(&mut self) {
+        let mut writes = in_flight_writes();
+        if let Some(i) = writes.iter().position(|p| *p == self.0) {
+            writes.swap_remove(i);
+        }
+    }
 }
 
 /// Writes `mesh` in `format` to any writer (buffer it: the writers issue many small writes).

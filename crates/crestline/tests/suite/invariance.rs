@@ -289,26 +289,32 @@ fn igea_lines_are_invariant_and_deterministic() {
     );
 }
 
-// Known gaps, measured (issue 22): on fandisk a rotation, a translation by 1e4 or a
-// reordering adds one ridge of 3 points (3.2% of the diagonal, strength 5.7, on the plane
-// z = 0) to the 48 lines, and a rotation changes more (4.9%); on the bunny and igea a
-// reordering with a scaling by 1e-3 moves points (bunny: 121 lines either way, length 5.4e-4
-// of the diagonal off; igea: 477 lines against 475, 7.9e-3 off). Scaling alone, and on the
-// scans rotation with translation, give the same lines to 1e-8 of the diagonal. The cause
-// (a decision on values equal up to rounding) is not found yet; these tests keep the
-// strict check and run with `cargo test -- --ignored`.
-
 #[test]
-#[ignore = "known gap: fandisk lines change under rotation, translation and reordering"]
-fn fandisk_lines_are_invariant_under_rigid_motions_and_reordering() {
+fn fandisk_lines_are_invariant_under_translation_and_reordering() {
     check_mesh(
         "fandisk.obj",
         &[
-            ("rotated", rotated(), false),
             ("translated by 1e4", translated(), false),
             ("reordered", Similarity::identity(), true),
+            ("reordered and translated by 1e4", translated(), true),
         ],
     );
+}
+
+// Known gaps, measured (issue 22). Translation and reordering on fandisk used to add one
+// ridge of 3 points: a crease vertex between two flat sides has an angle of π on each, and
+// `widest_side` chose between them by rounding; it now takes angles within 1e-9 as a tie
+// (`SIDE_TIE`) and breaks it by area and position. Left, measured after that fix: on fandisk
+// a rotation gives 48 lines against 48, but 1.73e-2 of the diagonal of length off and points
+// moved beyond 1e-6 of it; on the bunny a reordering gives 121 lines against 121, 5.4e-4 of
+// the diagonal of length off (within the 0.1%) but points moved beyond 1e-6 (scaling by 1e-3
+// alone: 1.4e-8); igea was last measured before the fix (477 lines against 475, 7.9e-3 off).
+// These tests keep the strict check and run with `cargo test -- --ignored`.
+
+#[test]
+#[ignore = "known gap: fandisk lines change under rotation"]
+fn fandisk_lines_are_invariant_under_rotation() {
+    check_mesh("fandisk.obj", &[("rotated", rotated(), false)]);
 }
 
 #[test]
