@@ -120,7 +120,7 @@ pub struct ExtractOptions {
     pub method: Method,
     /// Reverse the triangles of closed components that face inward (negative volume) before
     /// anything else, so that ridges are not taken for valleys (see the module docs and
-    /// [`crate::mesh::orient`](mod@crate::mesh::orient)); `false` takes the winding as it
+    /// [`crate::mesh::orient_outward`]); `false` takes the winding as it
     /// is. Default: true.
     pub orient_outward: bool,
     /// Step 1: surface pre-smoothing. Default: off (0 steps).

@@ -19,7 +19,7 @@ pub const SIDE_TIE: f64 = 1e-9;
 /// with the largest total angle at v (ties up to [`SIDE_TIE`]: the larger area, then the side
 /// whose centroid comes first in (x, y, z) order). All faces of v when no crease
 /// edge meets it. A vertex on a crease is a sample of every side; its own fit and fields
-/// describe this one (see [`crate::curvature::jet_fit`]).
+/// describe this one (see [`crate::curvature::jet_fit`](mod@crate::curvature::jet_fit)).
 pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
     let topo = mesh.topology();
     let faces = topo.vertex_faces(v);
@@ -142,7 +142,7 @@ pub fn cone_points(mesh: &TriMesh, crease_edges: &[bool]) -> Vec<u32> {
 }
 
 /// Chains the edges flagged in `is_crease` into curves (see the module docs, step 4).
-/// `angles` are those of [`dihedral_angles`]; `corner_angle` in degrees.
+/// `angles` are those of [`dihedral_angles`](super::dihedral_angles); `corner_angle` in degrees.
 pub fn chain_crease_edges(
     mesh: &TriMesh,
     is_crease: &[bool],
