@@ -5,6 +5,7 @@ mod auto_threshold;
 mod bad_input;
 mod bad_input_files;
 mod cad_shapes;
+mod cad_solids;
 mod common;
 mod curvature;
 mod curvature_robust;
