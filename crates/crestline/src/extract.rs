@@ -410,14 +410,8 @@ pub fn extract_with_progress(
         triangles: mesh.num_faces(),
         ..Default::default()
     };
-    let oriented;
-    let mesh = match orient_if_inward(mesh, options, &mut stats)? {
-        Some(reversed) => {
-            oriented = reversed;
-            &oriented
-        }
-        None => mesh,
-    };
+    let oriented = orient_if_inward(mesh, options, &mut stats)?;
+    let mesh = oriented.as_ref().unwrap_or(mesh);
     let mut clock = StageClock {
         progress,
         times: Vec::new(),
