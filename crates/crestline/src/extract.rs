@@ -120,7 +120,7 @@ pub struct ExtractOptions {
     pub method: Method,
     /// Reverse the triangles of closed components that face inward (negative volume) before
     /// anything else, so that ridges are not taken for valleys (see the module docs and
-    /// [`crate::mesh::orient`](mod@crate::mesh::orient)); `false` takes the winding as it
+    /// [`crate::mesh::orient_outward`]); `false` takes the winding as it
     /// is. Default: true.
     pub orient_outward: bool,
     /// Step 1: surface pre-smoothing. Default: off (0 steps).
@@ -410,19 +410,8 @@ pub fn extract_with_progress(
         triangles: mesh.num_faces(),
         ..Default::default()
     };
-    let oriented;
-    let mesh = if options.orient_outward {
-        let (report, _) = orientation(mesh);
-        stats.orientation = report;
-        if report.inward > 0 {
-            oriented = orient_outward(mesh.clone())?.0;
-            &oriented
-        } else {
-            mesh
-        }
-    } else {
-        mesh
-    };
+    let oriented = orient_if_inward(mesh, options, &mut stats)?;
+    let mesh = oriented.as_ref().unwrap_or(mesh);
     let mut clock = StageClock {
         progress,
         times: Vec::new(),
@@ -466,35 +455,7 @@ pub fn extract_with_progress(
     let t = clock.begin(Stage::Tracing);
     let diagonal = mesh.bounding_box().diagonal();
     let mut filter = options.filter;
-    let mut traced = match options.method {
-        Method::Hpw => {
-            let (traced, report) = trace_lines(surface, &curvature);
-            stats.trace = report;
-            traced
-        }
-        Method::Ybs => trace_crest_lines(surface, &curvature, None).0,
-        Method::Saliency => {
-            let saliency = mesh_saliency(surface, &curvature, &options.saliency)?;
-            let threshold = if options.auto_threshold {
-                let knee = seek_threshold(&saliency.saliency, &options.knee);
-                stats.threshold_is_auto = knee.is_some();
-                knee.unwrap_or(f64::INFINITY)
-            } else {
-                options.filter.threshold
-            };
-            stats.threshold = threshold;
-            // The threshold applies to points here; the linking applies the strength floor
-            // (`LinkOptions::min_strength`), the filter below only the length.
-            filter.threshold = f64::NEG_INFINITY;
-            link_feature_points(
-                surface,
-                &curvature,
-                &saliency.saliency,
-                threshold,
-                &options.link,
-            )
-        }
-    };
+    let mut traced = trace_by_method(surface, &curvature, options, &mut filter, &mut stats)?;
     clock.end(Stage::Tracing, t);
     if let (Method::Ybs, Some(gaps)) = (options.method, options.gaps.as_ref()) {
         let t = clock.begin(Stage::GapJumping);
@@ -505,22 +466,7 @@ pub fn extract_with_progress(
 
     let t = clock.begin(Stage::Filtering);
     if options.method != Method::Saliency {
-        if options.auto_threshold {
-            // The candidates: lines that pass the floor and the length filter.
-            let min_length = filter.min_length * diagonal;
-            let strengths: Vec<f64> = traced
-                .lines
-                .iter()
-                .filter(|l| l.length >= min_length)
-                .map(|l| filter.measure.of(l))
-                .filter(|&t| t >= filter.threshold)
-                .collect();
-            if let Some(knee) = seek_threshold(&strengths, &options.knee) {
-                filter.threshold = filter.threshold.max(knee);
-                stats.threshold_is_auto = true;
-            }
-        }
-        stats.threshold = filter.threshold;
+        choose_line_threshold(&traced, options, &mut filter, diagonal, &mut stats);
     }
     let mut lines = filter_lines(traced, &filter, diagonal);
     clock.end(Stage::Filtering, t);
@@ -536,13 +482,7 @@ pub fn extract_with_progress(
         clock.end(Stage::Merging, t);
     }
     stats.stage_times = clock.times;
-
-    stats.lines = lines.lines.len();
-    stats.ridges = lines.of_kind(LineKind::Ridge).count();
-    stats.valleys = lines.of_kind(LineKind::Valley).count();
-    stats.total_length = lines.total_length();
-    stats.creases = lines.creases(true).count();
-    stats.crease_length = lines.creases(true).map(|l| l.length).sum();
+    count_lines(&lines, &mut stats);
     let extraction = Extraction {
         lines,
         curvature,
@@ -554,6 +494,101 @@ pub fn extract_with_progress(
         extraction.check_finite()
     );
     Ok(extraction)
+}
+
+/// The mesh with its inward-facing closed components reversed, or `None` when it needs no
+/// change (or `orient_outward` is off): curvature signs follow the normals.
+fn orient_if_inward(
+    mesh: &TriMesh,
+    options: &ExtractOptions,
+    stats: &mut ExtractStats,
+) -> Result<Option<TriMesh>> {
+    if !options.orient_outward {
+        return Ok(None);
+    }
+    let (report, _) = orientation(mesh);
+    stats.orientation = report;
+    if report.inward == 0 {
+        return Ok(None);
+    }
+    Ok(Some(orient_outward(mesh.clone())?.0))
+}
+
+/// Traces the candidate lines of the chosen method: HPW's regular and singular triangles,
+/// YBS's edge-based crest lines, or the saliency method's linked feature points.
+fn trace_by_method(
+    surface: &TriMesh,
+    curvature: &Curvature,
+    options: &ExtractOptions,
+    filter: &mut LineFilter,
+    stats: &mut ExtractStats,
+) -> Result<FeatureLines> {
+    Ok(match options.method {
+        Method::Hpw => {
+            let (traced, report) = trace_lines(surface, curvature);
+            stats.trace = report;
+            traced
+        }
+        Method::Ybs => trace_crest_lines(surface, curvature, None).0,
+        Method::Saliency => {
+            let saliency = mesh_saliency(surface, curvature, &options.saliency)?;
+            let threshold = if options.auto_threshold {
+                let knee = seek_threshold(&saliency.saliency, &options.knee);
+                stats.threshold_is_auto = knee.is_some();
+                knee.unwrap_or(f64::INFINITY)
+            } else {
+                options.filter.threshold
+            };
+            stats.threshold = threshold;
+            // The threshold applies to points here; the linking applies the strength floor
+            // (`LinkOptions::min_strength`), the filter below only the length.
+            filter.threshold = f64::NEG_INFINITY;
+            link_feature_points(
+                surface,
+                curvature,
+                &saliency.saliency,
+                threshold,
+                &options.link,
+            )
+        }
+    })
+}
+
+/// Sets the strength threshold T of the line filter (HPW and YBS): the knee of the traced
+/// lines' strengths when `auto_threshold` is on, never below the given floor.
+fn choose_line_threshold(
+    traced: &FeatureLines,
+    options: &ExtractOptions,
+    filter: &mut LineFilter,
+    diagonal: f64,
+    stats: &mut ExtractStats,
+) {
+    if options.auto_threshold {
+        // The candidates: lines that pass the floor and the length filter.
+        let min_length = filter.min_length * diagonal;
+        let strengths: Vec<f64> = traced
+            .lines
+            .iter()
+            .filter(|l| l.length >= min_length)
+            .map(|l| filter.measure.of(l))
+            .filter(|&t| t >= filter.threshold)
+            .collect();
+        if let Some(knee) = seek_threshold(&strengths, &options.knee) {
+            filter.threshold = filter.threshold.max(knee);
+            stats.threshold_is_auto = true;
+        }
+    }
+    stats.threshold = filter.threshold;
+}
+
+/// Fills the statistics' counts and lengths of the final lines.
+fn count_lines(lines: &FeatureLines, stats: &mut ExtractStats) {
+    stats.lines = lines.lines.len();
+    stats.ridges = lines.of_kind(LineKind::Ridge).count();
+    stats.valleys = lines.of_kind(LineKind::Valley).count();
+    stats.total_length = lines.total_length();
+    stats.creases = lines.creases(true).count();
+    stats.crease_length = lines.creases(true).map(|l| l.length).sum();
 }
 
 impl Extraction {

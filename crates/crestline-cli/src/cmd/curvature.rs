@@ -99,36 +99,11 @@ fn columns(c: &Curvature) -> Vec<(&'static str, Vec<f64>)> {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    let estimator: Estimator = args.estimator.into();
-    let jet_fit_only = args.radius.is_some()
-        || args.degree.is_some()
-        || args.no_noise_adaptation
-        || args.creases.is_some();
-    if jet_fit_only && estimator != Estimator::JetFit {
-        bail!(
-            "--radius, --degree, --no-noise-adaptation and --creases apply to --estimator \
-             jet-fit only"
-        );
-    }
-    if args.rings.is_some() && estimator != Estimator::CubicFit {
-        bail!("--rings applies to --estimator cubic-fit only");
-    }
+    let options = curvature_options(&args)?;
+    let estimator = options.estimator;
     refuse_overwriting_inputs(&args.output, &[args.input.mesh.as_deref()])?;
     let (mesh, name) = progress::step("reading", || args.input.load())?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
-    let mut options = CurvatureOptions::default().with_estimator(estimator);
-    if let Some(k) = args.rings {
-        options = options.with_rings(k);
-    }
-    if let Some(r) = args.radius {
-        options.jet_fit = options.jet_fit.with_radius(r);
-    }
-    if let Some(d) = args.degree {
-        options.jet_fit = options.jet_fit.with_degree(d.into());
-    }
-    options.jet_fit = options
-        .jet_fit
-        .with_adapt_to_noise(!args.no_noise_adaptation);
     // The papers' estimators read one star or ring and do not split at creases.
     let angle = match estimator {
         Estimator::JetFit => args.creases.unwrap_or_default(),
@@ -199,4 +174,36 @@ pub fn run(args: Args) -> Result<()> {
         display(&args.output)
     );
     Ok(())
+}
+
+/// The estimator's options from the arguments; flags of another estimator are errors.
+fn curvature_options(args: &Args) -> Result<CurvatureOptions> {
+    let estimator: Estimator = args.estimator.into();
+    let jet_fit_only = args.radius.is_some()
+        || args.degree.is_some()
+        || args.no_noise_adaptation
+        || args.creases.is_some();
+    if jet_fit_only && estimator != Estimator::JetFit {
+        bail!(
+            "--radius, --degree, --no-noise-adaptation and --creases apply to --estimator \
+             jet-fit only"
+        );
+    }
+    if args.rings.is_some() && estimator != Estimator::CubicFit {
+        bail!("--rings applies to --estimator cubic-fit only");
+    }
+    let mut options = CurvatureOptions::default().with_estimator(estimator);
+    if let Some(k) = args.rings {
+        options = options.with_rings(k);
+    }
+    if let Some(r) = args.radius {
+        options.jet_fit = options.jet_fit.with_radius(r);
+    }
+    if let Some(d) = args.degree {
+        options.jet_fit = options.jet_fit.with_degree(d.into());
+    }
+    options.jet_fit = options
+        .jet_fit
+        .with_adapt_to_noise(!args.no_noise_adaptation);
+    Ok(options)
 }

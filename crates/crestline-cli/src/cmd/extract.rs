@@ -9,7 +9,9 @@ use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use crestline::curvature::Estimator;
 use crestline::curvature::cubic_fit::MAX_RINGS;
-use crestline::extract::{ExtractOptions, Extraction, Method, Stage, extract_with_progress};
+use crestline::extract::{
+    ExtractOptions, ExtractStats, Extraction, Method, Stage, extract_with_progress,
+};
 use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines, write_lines_to};
 use crestline::io::mask::read_diffusion_factors;
@@ -221,37 +223,8 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
 
-    let s = &extraction.stats;
     if !progress::quiet() {
-        eprintln!(
-            "{name}: {} lines ({} ridges, {} valleys), total length {:.4} -> {}",
-            s.lines,
-            s.ridges,
-            s.valleys,
-            s.total_length,
-            display(&output)
-        );
-        if s.creases > 0 {
-            eprintln!(
-                "{} sharp creases (dihedral angle > {:.1} degrees), length {:.4}",
-                s.creases,
-                s.crease_threshold.unwrap_or(f64::NAN),
-                s.crease_length
-            );
-        }
-        if s.threshold_is_auto {
-            eprintln!("automatic threshold: {:.6}", s.threshold);
-        } else if options.auto_threshold {
-            match options.method {
-                Method::Saliency => {
-                    eprintln!("automatic threshold: the saliency has no knee, no feature points")
-                }
-                _ => eprintln!(
-                    "automatic threshold: the line strengths have no knee, kept T >= {}",
-                    s.threshold
-                ),
-            }
-        }
+        print_summary(&name, &output, &extraction.stats, &options);
     }
     match args.stats {
         Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, &mesh, &io)),
@@ -262,6 +235,40 @@ pub fn run(args: Args) -> Result<()> {
         None => {}
     }
     Ok(())
+}
+
+/// The one-paragraph summary on stderr: counts, creases, and what the automatic threshold
+/// found.
+fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractOptions) {
+    eprintln!(
+        "{name}: {} lines ({} ridges, {} valleys), total length {:.4} -> {}",
+        s.lines,
+        s.ridges,
+        s.valleys,
+        s.total_length,
+        display(output)
+    );
+    if s.creases > 0 {
+        eprintln!(
+            "{} sharp creases (dihedral angle > {:.1} degrees), length {:.4}",
+            s.creases,
+            s.crease_threshold.unwrap_or(f64::NAN),
+            s.crease_length
+        );
+    }
+    if s.threshold_is_auto {
+        eprintln!("automatic threshold: {:.6}", s.threshold);
+    } else if options.auto_threshold {
+        match options.method {
+            Method::Saliency => {
+                eprintln!("automatic threshold: the saliency has no knee, no feature points")
+            }
+            _ => eprintln!(
+                "automatic threshold: the line strengths have no knee, kept T >= {}",
+                s.threshold
+            ),
+        }
+    }
 }
 
 type PictureWriter = fn(

@@ -412,7 +412,7 @@ pub fn presmoothed_positions(mesh: &TriMesh) -> Vec<Vec3> {
 struct Scratch {
     /// Ring vertices (the centre excluded), in BFS order.
     ring: Vec<u32>,
-    /// `ring[level_ends[l - 1]..level_ends[l]]` is level l + 1 (level_ends[0] ends level 1).
+    /// `ring[level_ends[l - 1]..level_ends[l]]` is level l + 1 (`level_ends[0]` ends level 1).
     level_ends: Vec<usize>,
     samples: Vec<Sample>,
 }

@@ -61,6 +61,61 @@ pub fn jump_gaps(
     lines: &mut Vec<FeatureLine>,
     options: &GapJumping,
 ) -> usize {
+    let (ends, stars) = open_ends(mesh, lines);
+    let candidates = rank_joins(lines, &ends, &stars, options);
+
+    // Union of lines as chains: join greedily, keeping track of which line each original
+    // line has been merged into and where its ends now are.
+    let mut used_end = vec![false; ends.len()];
+    let mut owner: Vec<usize> = (0..lines.len()).collect();
+    let mut alive = vec![true; lines.len()];
+    let mut joins = 0;
+    for (_, _, i, j) in candidates {
+        if used_end[i] || used_end[j] {
+            continue;
+        }
+        let (a, b) = (ends[i], ends[j]);
+        let (la, lb) = (find(&mut owner, a.line), find(&mut owner, b.line));
+        if la == lb {
+            // Both ends are unused, so they are the two ends of this chain: close it.
+            let line = &mut lines[la];
+            if line.points.len() >= 3 {
+                if line.points.first() == line.points.last() {
+                    line.points.pop();
+                    line.locations.pop();
+                }
+                line.closed = true;
+                measure_line(mesh, family, line);
+                used_end[i] = true;
+                used_end[j] = true;
+                joins += 1;
+            }
+            continue;
+        }
+        let placeholder = empty_like(&lines[la]);
+        let first = std::mem::replace(&mut lines[la], placeholder.clone());
+        let second = std::mem::replace(&mut lines[lb], placeholder);
+        let mut joined = concatenate(first, second, &a, &b);
+        measure_line(mesh, family, &mut joined);
+        lines[la] = joined;
+        alive[lb] = false;
+        owner[lb] = la;
+        used_end[i] = true;
+        used_end[j] = true;
+        joins += 1;
+    }
+    let mut k = 0;
+    lines.retain(|_| {
+        k += 1;
+        alive[k - 1]
+    });
+    joins
+}
+
+/// The open ends of the lines (both ends of every open line with surface locations), and per
+/// vertex the ends that lie on it or on an edge or face around it: ends near one another
+/// share a vertex.
+fn open_ends(mesh: &TriMesh, lines: &[FeatureLine]) -> (Vec<End>, HashMap<u32, Vec<usize>>) {
     let topo = mesh.topology();
     let faces = mesh.faces();
     let mut ends: Vec<End> = Vec::new();
@@ -97,9 +152,17 @@ pub fn jump_gaps(
             }
         }
     }
+    (ends, stars)
+}
 
-    // (gap, γ, end, end): shortest gap first, the straighter continuation on ties (several
-    // lines ending at one junction point).
+/// The pairs of ends that pass the angle test, as (gap, γ, end, end): shortest gap first,
+/// the straighter continuation on ties (several lines ending at one junction point).
+fn rank_joins(
+    lines: &[FeatureLine],
+    ends: &[End],
+    stars: &HashMap<u32, Vec<usize>>,
+    options: &GapJumping,
+) -> Vec<(f64, f64, usize, usize)> {
     let mut candidates: Vec<(f64, f64, usize, usize)> = Vec::new();
     let mut star_keys: Vec<&u32> = stars.keys().collect();
     star_keys.sort_unstable();
@@ -120,67 +183,27 @@ pub fn jump_gaps(
     }
     candidates.sort_by(|x, y| x.partial_cmp(y).unwrap_or(std::cmp::Ordering::Equal));
     candidates.dedup();
+    candidates
+}
 
-    // Union of lines as chains: join greedily, keeping track of which line each original
-    // line has been merged into and where its ends now are.
-    let mut used_end = vec![false; ends.len()];
-    let mut owner: Vec<usize> = (0..lines.len()).collect();
-    let mut alive = vec![true; lines.len()];
-    let mut joins = 0;
-    for (_, _, i, j) in candidates {
-        if used_end[i] || used_end[j] {
-            continue;
-        }
-        let (a, b) = (ends[i], ends[j]);
-        let (la, lb) = (find(&mut owner, a.line), find(&mut owner, b.line));
-        if la == lb {
-            // Both ends are unused, so they are the two ends of this chain: close it.
-            let line = &mut lines[la];
-            if line.points.len() >= 3 {
-                if line.points.first() == line.points.last() {
-                    line.points.pop();
-                    line.locations.pop();
-                }
-                line.closed = true;
-                measure_line(mesh, family, line);
-                used_end[i] = true;
-                used_end[j] = true;
-                joins += 1;
-            }
-            continue;
-        }
-        // Orient: la must end at point a, lb must start at point b.
-        let placeholder = empty_like(&lines[la]);
-        let mut first = std::mem::replace(&mut lines[la], placeholder.clone());
-        let mut second = std::mem::replace(&mut lines[lb], placeholder);
-        if first.points.first() == Some(&a.point) && first.points.last() != Some(&a.point) {
-            first.points.reverse();
-            first.locations.reverse();
-        }
-        if second.points.last() == Some(&b.point) && second.points.first() != Some(&b.point) {
-            second.points.reverse();
-            second.locations.reverse();
-        }
-        // Coincident ends: keep one copy of the shared point.
-        let skip = usize::from(first.points.last() == second.points.first());
-        first.points.extend(second.points.into_iter().skip(skip));
-        first
-            .locations
-            .extend(second.locations.into_iter().skip(skip));
-        measure_line(mesh, family, &mut first);
-        lines[la] = first;
-        alive[lb] = false;
-        owner[lb] = la;
-        used_end[i] = true;
-        used_end[j] = true;
-        joins += 1;
+/// `first` then `second`, oriented so that `first` ends at end `a` and `second` starts at
+/// end `b`; not yet measured.
+fn concatenate(mut first: FeatureLine, mut second: FeatureLine, a: &End, b: &End) -> FeatureLine {
+    if first.points.first() == Some(&a.point) && first.points.last() != Some(&a.point) {
+        first.points.reverse();
+        first.locations.reverse();
     }
-    let mut k = 0;
-    lines.retain(|_| {
-        k += 1;
-        alive[k - 1]
-    });
-    joins
+    if second.points.last() == Some(&b.point) && second.points.first() != Some(&b.point) {
+        second.points.reverse();
+        second.locations.reverse();
+    }
+    // Coincident ends: keep one copy of the shared point.
+    let skip = usize::from(first.points.last() == second.points.first());
+    first.points.extend(second.points.into_iter().skip(skip));
+    first
+        .locations
+        .extend(second.locations.into_iter().skip(skip));
+    first
 }
 
 /// YBS's angle test (Fig. 4) for joining end `a` to end `b`: `Some(γ)` when it passes.

@@ -153,7 +153,6 @@ pub fn link_feature_points(
     threshold: f64,
     options: &LinkOptions,
 ) -> FeatureLines {
-    let topo = mesh.topology();
     let n = mesh.num_vertices();
     let crest = crest_points(mesh, curvature);
     let mut feature: Vec<bool> = (0..n)
@@ -171,119 +170,21 @@ pub fn link_feature_points(
         .iter()
         .map(|c| c.map_or(LineKind::Ridge, |c| c.kind))
         .collect();
-    let along = |v: usize| match kind[v] {
-        LineKind::Ridge => curvature.dir_min[v],
-        LineKind::Valley => curvature.dir_max[v],
+    let graph = CrestGraph {
+        mesh,
+        curvature,
+        crest: &crest,
+        kind: &kind,
     };
-    // Alignment of edge p→q with the line direction at p: signed cosine.
-    let alignment = |p: usize, q: usize| -> f64 {
-        let d: Vec3 = mesh.positions()[q] - mesh.positions()[p];
-        d.try_normalize(0.0).map_or(0.0, |d| d.dot(&along(p)))
-    };
-    let best = |p: usize, candidates: &mut dyn Iterator<Item = usize>| -> Option<usize> {
-        candidates.max_by(|&a, &b| alignment(p, a).abs().total_cmp(&alignment(p, b).abs()))
-    };
-
     if options.extend {
-        // Whole crest lines: a salient line goes on through crest points of its kind that
-        // continue it (within 60 degrees of its direction), whatever their saliency.
-        let mut stack: Vec<usize> = (0..n).filter(|&v| feature[v]).collect();
-        while let Some(p) = stack.pop() {
-            for q in topo.neighbors(p as u32) {
-                let q = q as usize;
-                if !feature[q]
-                    && crest[q].is_some_and(|c| c.kind == kind[p])
-                    && alignment(p, q).abs() > 0.5
-                {
-                    feature[q] = true;
-                    stack.push(q);
-                }
-            }
-        }
+        graph.extend_features(&mut feature);
     }
-    let mut links: Vec<(usize, usize)> = Vec::new();
-    let mut linked = vec![false; n];
-    loop {
-        let mut promoted = false;
-        for p in 0..n {
-            if !feature[p] || linked[p] {
-                continue;
-            }
-            let ring: Vec<usize> = topo.neighbors(p as u32).map(|q| q as usize).collect();
-            for ahead in [true, false] {
-                let on_side = |q: &usize| (alignment(p, *q) >= 0.0) == ahead;
-                let strong = best(
-                    p,
-                    &mut ring
-                        .iter()
-                        .copied()
-                        .filter(on_side)
-                        .filter(|&q| feature[q] && kind[q] == kind[p]),
-                );
-                let chosen = strong.or_else(|| {
-                    let bridge = best(
-                        p,
-                        &mut ring
-                            .iter()
-                            .copied()
-                            .filter(on_side)
-                            .filter(|&q| weak[q] && !feature[q] && kind[q] == kind[p])
-                            .filter(|&q| {
-                                topo.neighbors(q as u32).any(|k| {
-                                    let k = k as usize;
-                                    k != p && feature[k] && kind[k] == kind[p] && !ring.contains(&k)
-                                })
-                            }),
-                    );
-                    if let Some(q) = bridge {
-                        feature[q] = true;
-                        promoted = true;
-                    }
-                    bridge
-                });
-                if let Some(q) = chosen {
-                    links.push((p, q));
-                    linked[p] = true;
-                }
-            }
-        }
-        if !promoted {
-            break;
-        }
-    }
-
+    let links = graph.link_neighbours(&mut feature, &weak);
     let paths: Vec<(Vec<usize>, bool)> = chain_links(n, &links)
         .into_iter()
         .filter(|(path, _)| path.len() >= 2)
         .collect();
-    let lines: Vec<FeatureLine> = paths
-        .iter()
-        .map(|(path, closed)| {
-            let closed = *closed;
-            let line_kind = kind[path[0]];
-            let family = Family::of(curvature, line_kind);
-            let mut line = FeatureLine {
-                kind: line_kind,
-                points: path
-                    .iter()
-                    .filter_map(|&v| crest[v])
-                    .map(|c| c.position)
-                    .collect(),
-                locations: path
-                    .iter()
-                    .filter_map(|&v| crest[v])
-                    .map(|c| c.location)
-                    .collect(),
-                closed,
-                length: 0.0,
-                curvature_integral: 0.0,
-                strength: 0.0,
-                crease: false,
-            };
-            measure_line(mesh, &family, &mut line);
-            line
-        })
-        .collect();
+    let lines: Vec<FeatureLine> = paths.iter().map(|path| graph.line_of(path)).collect();
     let keep = strong_networks(n, &paths, &lines, options.min_strength);
     FeatureLines {
         lines: lines
@@ -291,6 +192,148 @@ pub fn link_feature_points(
             .zip(keep)
             .filter_map(|(line, keep)| keep.then_some(line))
             .collect(),
+    }
+}
+
+/// The crest points of a mesh with their kinds, and the steps of [`link_feature_points`]
+/// that walk between them.
+struct CrestGraph<'a> {
+    mesh: &'a TriMesh,
+    curvature: &'a Curvature,
+    crest: &'a [Option<CrestPoint>],
+    kind: &'a [LineKind],
+}
+
+impl CrestGraph<'_> {
+    /// The line direction at crest vertex `v`: the principal direction along a ridge or valley.
+    fn along(&self, v: usize) -> Vec3 {
+        match self.kind[v] {
+            LineKind::Ridge => self.curvature.dir_min[v],
+            LineKind::Valley => self.curvature.dir_max[v],
+        }
+    }
+
+    /// Alignment of edge p→q with the line direction at p: signed cosine.
+    fn alignment(&self, p: usize, q: usize) -> f64 {
+        let d: Vec3 = self.mesh.positions()[q] - self.mesh.positions()[p];
+        d.try_normalize(0.0).map_or(0.0, |d| d.dot(&self.along(p)))
+    }
+
+    /// The candidate best aligned with the line direction at `p`.
+    fn best(&self, p: usize, candidates: &mut dyn Iterator<Item = usize>) -> Option<usize> {
+        candidates.max_by(|&a, &b| {
+            self.alignment(p, a)
+                .abs()
+                .total_cmp(&self.alignment(p, b).abs())
+        })
+    }
+
+    /// Whole crest lines: a salient line goes on through crest points of its kind that
+    /// continue it (within 60 degrees of its direction), whatever their saliency.
+    fn extend_features(&self, feature: &mut [bool]) {
+        let topo = self.mesh.topology();
+        let mut stack: Vec<usize> = (0..feature.len()).filter(|&v| feature[v]).collect();
+        while let Some(p) = stack.pop() {
+            for q in topo.neighbors(p as u32) {
+                let q = q as usize;
+                if !feature[q]
+                    && self.crest[q].is_some_and(|c| c.kind == self.kind[p])
+                    && self.alignment(p, q).abs() > 0.5
+                {
+                    feature[q] = true;
+                    stack.push(q);
+                }
+            }
+        }
+    }
+
+    /// Links every feature point to its best aligned feature neighbour ahead and behind;
+    /// where none, a weak neighbour that bridges to a further feature point is promoted to
+    /// a feature point, and the pass repeats until no point is promoted.
+    fn link_neighbours(&self, feature: &mut [bool], weak: &[bool]) -> Vec<(usize, usize)> {
+        let topo = self.mesh.topology();
+        let kind = self.kind;
+        let n = feature.len();
+        let mut links: Vec<(usize, usize)> = Vec::new();
+        let mut linked = vec![false; n];
+        loop {
+            let mut promoted = false;
+            for p in 0..n {
+                if !feature[p] || linked[p] {
+                    continue;
+                }
+                let ring: Vec<usize> = topo.neighbors(p as u32).map(|q| q as usize).collect();
+                for ahead in [true, false] {
+                    let on_side = |q: &usize| (self.alignment(p, *q) >= 0.0) == ahead;
+                    let strong = self.best(
+                        p,
+                        &mut ring
+                            .iter()
+                            .copied()
+                            .filter(on_side)
+                            .filter(|&q| feature[q] && kind[q] == kind[p]),
+                    );
+                    let chosen = strong.or_else(|| {
+                        let bridge = self.best(
+                            p,
+                            &mut ring
+                                .iter()
+                                .copied()
+                                .filter(on_side)
+                                .filter(|&q| weak[q] && !feature[q] && kind[q] == kind[p])
+                                .filter(|&q| {
+                                    topo.neighbors(q as u32).any(|k| {
+                                        let k = k as usize;
+                                        k != p
+                                            && feature[k]
+                                            && kind[k] == kind[p]
+                                            && !ring.contains(&k)
+                                    })
+                                }),
+                        );
+                        if let Some(q) = bridge {
+                            feature[q] = true;
+                            promoted = true;
+                        }
+                        bridge
+                    });
+                    if let Some(q) = chosen {
+                        links.push((p, q));
+                        linked[p] = true;
+                    }
+                }
+            }
+            if !promoted {
+                break;
+            }
+        }
+        links
+    }
+
+    /// The measured feature line through the crest points of a chained path.
+    fn line_of(&self, (path, closed): &(Vec<usize>, bool)) -> FeatureLine {
+        let line_kind = self.kind[path[0]];
+        let family = Family::of(self.curvature, line_kind);
+        let mut line = FeatureLine {
+            kind: line_kind,
+            points: path
+                .iter()
+                .filter_map(|&v| self.crest[v])
+                .map(|c| c.position)
+                .collect(),
+            locations: path
+                .iter()
+                .filter_map(|&v| self.crest[v])
+                .map(|c| c.location)
+                .collect(),
+            closed: *closed,
+            length: 0.0,
+            curvature_integral: 0.0,
+            strength: 0.0,
+            crease: false,
+        };
+        measure_line(self.mesh, &family, &mut line);
+        line
     }
 }
 

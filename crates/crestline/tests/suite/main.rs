@@ -3,9 +3,12 @@
 
 mod auto_threshold;
 mod bad_input;
+mod bad_input_files;
 mod cad_shapes;
+mod cad_solids;
 mod common;
 mod curvature;
+mod curvature_robust;
 mod extract;
 mod extract_real_meshes;
 mod extract_ybs;
