@@ -5,15 +5,9 @@
 // Test code: stopping loudly on the first surprise is the point.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+use crate::common::crestline;
 use std::path::Path;
 use std::process::{Command, Output};
-
-fn crestline(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(args)
-        .output()
-        .expect("the crestline binary runs")
-}
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()

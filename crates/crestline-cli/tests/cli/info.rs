@@ -4,29 +4,7 @@
 // Test code: stopping loudly on the first surprise is the point.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn meshes_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
-    assert!(
-        dir.is_dir(),
-        "the real test meshes are missing: expected them in {} (see shared/data/README.md)",
-        dir.display()
-    );
-    dir
-}
-
-fn crestline(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(args)
-        .output()
-        .expect("the crestline binary runs")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+use crate::common::{crestline, shared_meshes_dir as meshes_dir, stderr};
 
 /// Runs `info` on a file with `contents` and returns the failed run's stderr.
 fn failing_info(name: &str, contents: &[u8]) -> String {

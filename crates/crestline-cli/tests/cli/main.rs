@@ -2,6 +2,7 @@
 //! binary; each runs the `crestline` binary Cargo built for the tests.
 
 mod bad_input_cli;
+mod common;
 mod compose;
 mod curvature_cli;
 mod extract_cli;

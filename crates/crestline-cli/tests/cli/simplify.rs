@@ -5,20 +5,9 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
+use crate::common::{crestline, stderr};
 use crestline::io::{Format, WriteOptions, read_mesh, write_mesh};
-
-fn crestline(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(args)
-        .output()
-        .expect("the crestline binary runs")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
 
 /// Writes the pillow box (12 · 16² triangles) and its creases; returns (mesh, lines) paths.
 fn pillow_box_files(dir: &Path) -> (PathBuf, PathBuf) {

@@ -6,35 +6,18 @@
 
 use std::path::{Path, PathBuf};
 
+use crestline::MeshInfo;
 use crestline::io::{Format, PlyEncoding, WriteOptions, read_mesh, read_mesh_bytes, write_mesh_to};
-use crestline::{MeshInfo, TriMesh};
 
-/// The shared mesh folder, three levels above this crate.
-fn meshes_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
-    assert!(
-        dir.is_dir(),
-        "the real test meshes are missing: expected them in {} (see shared/data/README.md)",
-        dir.display()
-    );
-    dir
-}
-
-fn load(name: &str) -> TriMesh {
-    let path = meshes_dir().join(name);
-    match read_mesh(&path, None) {
-        Ok(mesh) => mesh,
-        Err(e) => panic!("{name} does not load: {e}"),
-    }
-}
+use crate::common::{load_shared, shared_meshes_dir};
 
 fn info(name: &str) -> MeshInfo {
-    load(name).info()
+    load_shared(name).info()
 }
 
 #[test]
 fn every_mesh_loads() {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(meshes_dir())
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(shared_meshes_dir())
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| Format::from_path(p).is_some())
@@ -124,7 +107,7 @@ fn small_closed_models() {
 
 /// Writes `mesh` in every exact format and reads it back.
 fn assert_round_trips(name: &str) {
-    let mesh = load(name);
+    let mesh = load_shared(name);
     let variants = [
         (Format::Obj, PlyEncoding::BinaryLittleEndian),
         (Format::Off, PlyEncoding::BinaryLittleEndian),

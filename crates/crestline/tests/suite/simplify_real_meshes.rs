@@ -5,8 +5,6 @@
 // Test code: stopping loudly on the first surprise is the point.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::path::{Path, PathBuf};
-
 use crestline::TriMesh;
 use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::extract::{ExtractOptions, extract};
@@ -17,24 +15,7 @@ use crestline::simplify::{SimplifyOptions, Target, simplify};
 use crestline::spatial::FaceGrid;
 
 use crate::common;
-use common::{distance_to, samples};
-
-fn meshes_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
-    assert!(
-        dir.is_dir(),
-        "the real test meshes are missing: expected them in {} (see shared/data/README.md)",
-        dir.display()
-    );
-    dir
-}
-
-fn load(name: &str) -> TriMesh {
-    match read_mesh(&meshes_dir().join(name), None) {
-        Ok(mesh) => mesh,
-        Err(e) => panic!("{name} does not load: {e}"),
-    }
-}
+use common::{distance_to, load_shared, samples, shared_meshes_dir};
 
 /// Independent cycles of the graph of boundary edges: edges - vertices + components.
 fn boundary_cycle_rank(mesh: &TriMesh) -> usize {
@@ -79,7 +60,7 @@ fn real_meshes_keep_their_topology() {
         "homer.obj",
         "horse.ply",
     ] {
-        let mesh = load(name);
+        let mesh = load_shared(name);
         let options = SimplifyOptions::default()
             .with_target(Target::Ratio(0.1))
             .with_eta(0.0);
@@ -130,7 +111,7 @@ fn real_meshes_keep_their_topology() {
 
 #[test]
 fn extracted_lines_keep_detail_near_them_on_fandisk() {
-    let path = meshes_dir().join("fandisk.obj");
+    let path = shared_meshes_dir().join("fandisk.obj");
     let mesh = read_mesh(&path, None).unwrap();
     // The lines of HPW as published (no direction support, plain smoothing, 3 steps): a few
     // crease pieces, so "near the lines" is a small part of the model. With the defaults the

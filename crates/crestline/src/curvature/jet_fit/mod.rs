@@ -562,8 +562,11 @@ impl Context<'_> {
         let (u, w, n) = tangent_frame(normal);
         s.samples.clear();
         let frame = [u, w, n];
-        s.samples
-            .extend(s.points.iter().filter_map(|q| q.sample(p, frame, r)));
+        for q in &s.points {
+            if let Some(sample) = q.sample(p, frame, r) {
+                s.samples.push(sample);
+            }
+        }
         let count = s.samples.len();
         // Degree by what the disc can carry: 15, 10 and 6 coefficients, with some surplus.
         let degree = if count >= 20 && self.options.degree >= 4 {

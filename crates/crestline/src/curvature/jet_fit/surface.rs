@@ -11,8 +11,8 @@
 //! with the triangles' area elements instead of the vertices' barycentric areas.
 //!
 //! **When.** Only where vertex sampling fails: the disc's vertices, with their weights and
-//! projected on the tangent plane, lie along a strip (the middle eigenvalue of their weighted
-//! second moment is below 2% of the largest), tested once the disc has grown to its minimal
+//! projected on the tangent plane, lie along a strip (the smaller eigenvalue of their weighted
+//! second moment is below 2% of the larger), tested once the disc has grown to its minimal
 //! number of vertices: a row of vertices along the rim of a CAD strip or fan. A disc of a
 //! mesh that samples the surface in both directions never takes this path: its results are
 //! those of vertex sampling. The fit's residual does not count towards the noise level
@@ -25,15 +25,15 @@
 //! each piece is one sample at its centroid with its area as weight and the linear
 //! interpolation of its corners' simulated noise.
 
-use nalgebra::{Matrix3, SymmetricEigen};
-
 #[cfg(doc)]
 use super::JetFitOptions;
 use super::{Context, Sample, Scratch, kernel, next_stamp, simulated_noise};
+use crate::curvature::{symmetric_eigen_2x2, tangent_frame};
 use crate::mesh::Vec3;
 use crate::spatial::closest_point_on_triangle;
 
-/// Ratio of the middle to the largest eigenvalue of the disc's weighted second moment below
+/// Ratio of the smaller to the larger eigenvalue of the disc's weighted second moment (on the
+/// tangent plane) below
 /// which its vertices are taken to lie along a strip. A full disc has 1, a half disc at a
 /// boundary 0.3, a quarter disc at a corner 0.2; a row of vertices along the rim of a CAD
 /// strip 0.0001, a cylinder cut into triangles 7 times longer than wide 0.005.
@@ -45,26 +45,32 @@ const PIECES_PER_RADIUS: f64 = 4.0;
 /// At most this many pieces along a triangle's side.
 const MAX_PIECES: usize = 64;
 
-/// Whether the weighted `points` (position, weight) lie along a strip: the middle eigenvalue
-/// of their weighted second moment is below [`STRIP_RATIO`] times the largest. Fewer than
-/// three points are not: such a disc grows (see [`JetFitOptions::min_points`]).
-fn is_strip(points: impl Iterator<Item = (Vec3, f64)> + Clone) -> bool {
-    let (sum, total, count) = points
-        .clone()
-        .fold((Vec3::zeros(), 0.0, 0usize), |(s, t, n), (p, w)| {
-            (s + p * w, t + w, n + 1)
-        });
+/// Whether the weighted `points` (tangent-plane coordinates, weight) lie along a strip: the
+/// smaller eigenvalue of their weighted second moment is below [`STRIP_RATIO`] times the
+/// larger. Fewer than three points are not: such a disc grows (see
+/// [`JetFitOptions::min_points`]).
+fn is_strip(points: impl Iterator<Item = ([f64; 2], f64)>) -> bool {
+    // Weighted sums of 1, x, y, x², xy, y² in one pass.
+    let mut m = [0.0f64; 6];
+    let mut count = 0usize;
+    for ([x, y], w) in points {
+        for (sum, term) in m.iter_mut().zip([1.0, x, y, x * x, x * y, y * y]) {
+            *sum += w * term;
+        }
+        count += 1;
+    }
+    let total = m[0];
     if count < 3 || total <= 0.0 {
         return false;
     }
-    let mean = sum / total;
-    let moment = points.fold(Matrix3::zeros(), |m, (p, w)| {
-        let d = p - mean;
-        m + d * d.transpose() * w
-    });
-    let mut eigen = SymmetricEigen::new(moment).eigenvalues;
-    eigen.as_mut_slice().sort_unstable_by(|a, b| b.total_cmp(a));
-    eigen[1] < STRIP_RATIO * eigen[0]
+    let (mx, my) = (m[1] / total, m[2] / total);
+    let (a, b, c) = (
+        m[3] / total - mx * mx,
+        m[4] / total - mx * my,
+        m[5] / total - my * my,
+    );
+    let (large, small, _) = symmetric_eigen_2x2(a, b, c);
+    small < STRIP_RATIO * large
 }
 
 impl Context<'_> {
@@ -78,16 +84,16 @@ impl Context<'_> {
             Some(split) if split.vertices[v as usize] => s.side_normal,
             _ => self.normals[v as usize],
         };
-        let n = normal.try_normalize(1e-300).unwrap_or_else(Vec3::zeros);
+        let (u, w, _) = tangent_frame(normal);
         is_strip(s.disc.iter().map(|&q| {
             let d = self.mesh.position(q) - p;
             let weight = self.areas[q as usize] * kernel(d.norm_squared() / (r * r));
-            (d - n * d.dot(&n), weight)
+            ([d.dot(&u), d.dot(&w)], weight)
         }))
     }
 
-    /// Samples the surface within `r` of vertex `v` on its triangles into `s.samples`' source
-    /// `s.points`, and returns the samples' kernel-weighted area normal.
+    /// Samples the surface within `r` of vertex `v` on its triangles into `s.points`, and
+    /// returns the samples' kernel-weighted area normal.
     pub(super) fn sample_triangles(&self, v: u32, r: f64, s: &mut Scratch) -> Vec3 {
         let topo = self.mesh.topology();
         let p = self.mesh.position(v);
@@ -180,6 +186,7 @@ pub(super) struct SurfacePoint {
 
 impl SurfacePoint {
     /// The sample this point makes in the frame (u, w, n) centred at `p`, scaled by `1 / r`.
+    #[inline]
     pub(super) fn sample(&self, p: Vec3, [u, w, n]: [Vec3; 3], r: f64) -> Option<Sample> {
         let d = (self.position - p) / r;
         let weight = self.area * kernel(d.norm_squared());
@@ -199,21 +206,18 @@ mod tests {
 
     #[test]
     fn rows_of_points_are_strips_and_discs_are_not() {
-        let row = (0..10).map(|i| (Vec3::new(i as f64, 0.01 * (i as f64).powi(2), 0.0), 1.0));
+        let row = (0..10).map(|i| ([i as f64, 0.01 * (i as f64).powi(2)], 1.0));
         assert!(is_strip(row.clone()));
         let disc = (0..10).map(|i| {
-            let t = i as f64 * 0.7;
-            (
-                Vec3::new(t.cos(), t.sin(), 0.0) * (1.0 + 0.1 * i as f64),
-                1.0,
-            )
+            let (t, s) = (i as f64 * 0.7, 1.0 + 0.1 * i as f64);
+            ([s * t.cos(), s * t.sin()], 1.0)
         });
         assert!(!is_strip(disc));
         // Points off the row with next to no weight leave it a strip.
-        let faint = (0..4).map(|i| (Vec3::new(i as f64, 3.0, 0.0), 1e-4));
+        let faint = (0..4).map(|i| ([i as f64, 3.0], 1e-4));
         assert!(is_strip(row.chain(faint)));
         assert!(!is_strip(
-            [(Vec3::zeros(), 1.0), (Vec3::x(), 1.0)].into_iter()
+            [([0.0, 0.0], 1.0), ([1.0, 0.0], 1.0)].into_iter()
         ));
     }
 }

@@ -1,0 +1,32 @@
+//! Helpers shared by the CLI test modules: running the `crestline` binary Cargo built for the
+//! tests, and the shared mesh folder.
+
+// Each test module uses a subset of these helpers.
+#![allow(dead_code, clippy::expect_used)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs `crestline` with `args` and returns what it did (whatever its exit code).
+pub fn crestline(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args(args)
+        .output()
+        .expect("the crestline binary runs")
+}
+
+/// A run's standard error as text.
+pub fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// The shared mesh folder (`../shared/data/meshes` beside the repository).
+pub fn shared_meshes_dir() -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
+    assert!(
+        dir.is_dir(),
+        "the real test meshes are missing: expected them in {} (see shared/data/README.md)",
+        dir.display()
+    );
+    dir
+}
