@@ -189,21 +189,13 @@ fn ybs_lines_are_the_sharp_edges_of_cad_solids() {
     check_method(Method::Ybs, &[("cone (Fine)", 0.94)]);
 }
 
-// Known gaps, measured: nothing on the planar faces and every corner reached on all twelve
-// meshes, but on the fine cone (F1 0.151), the fine filleted block (0.955) and the fine
-// box-cylinder union (0.930) the saliency method keeps crest points of the cone's and the
-// cylinders' sides, where e vanishes in theory: they are salient there (the curved part of a
-// shape made of planes), and linked into long networks whose strength passes the floor.
+// Known gap, measured: nothing on the planar faces and every corner reached on all twelve
+// meshes, but on the fine cone (F1 0.773) the saliency method keeps crest points near the
+// apex, where the fits span the cone's point and the extremalities, zero in theory, are
+// estimated far off (the same lines as HPW's there, linked further).
 #[test]
 fn saliency_lines_are_the_sharp_edges_of_cad_solids() {
-    check_method(
-        Method::Saliency,
-        &[
-            ("cone (Fine)", 0.14),
-            ("filleted block (Fine)", 0.94),
-            ("box-cylinder union (Fine)", 0.92),
-        ],
-    );
+    check_method(Method::Saliency, &[("cone (Fine)", 0.76)]);
 }
 
 #[test]
