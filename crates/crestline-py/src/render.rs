@@ -17,14 +17,16 @@ use crate::mesh::mesh_from_arrays;
 /// Without `path` returns the PNG file's bytes; with `path` writes a PNG, SVG (raster mesh,
 /// vector lines) or HTML (the self-contained WebGL viewer) picture, chosen by the extension,
 /// and returns None. Options, with the defaults of `crestline render`: `view` (azimuth,
-/// elevation) in degrees (30, 20); `size` (width, height) in pixels (1024, 1024); `up` "y"
+/// elevation) in degrees (30, 20); `size` (width, height) in pixels (1024, 1024); `up`
+/// "auto" (guessed from the mesh: "z" when it stands on a flat base along Z, else "y"), "y"
 /// or "z"; `colormap` "auto", "viridis" or "diverging"; `line_width` in pixels (2.5);
-/// `no_ridges`, `no_valleys`, `no_legend`; `legend_title` (default: none).
+/// `no_ridges`, `no_valleys`, `no_legend`; `legend_title` (default: none); `wireframe`
+/// draws the mesh's edges, hidden ones hidden (PNG and SVG; default False).
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, lines = None, field = None, path = None, *, view = None, size = None,
-    up = "y", colormap = "auto", line_width = None, no_ridges = false, no_valleys = false,
-    no_legend = false, legend_title = None,
+    up = "auto", colormap = "auto", line_width = None, no_ridges = false, no_valleys = false,
+    no_legend = false, legend_title = None, wireframe = false,
 ))]
 pub fn render<'py>(
     py: Python<'py>,
@@ -42,6 +44,7 @@ pub fn render<'py>(
     no_valleys: bool,
     no_legend: bool,
     legend_title: Option<String>,
+    wireframe: bool,
 ) -> PyResult<Option<Bound<'py, PyBytes>>> {
     // The picture shows the mesh as given, as `crestline render` does.
     let mesh = mesh_from_arrays(vertices, faces, true)?;
@@ -55,7 +58,11 @@ pub fn render<'py>(
     if let Some((width, height)) = size {
         options = options.with_size(width, height);
     }
-    options.up = choose("up", up, &[("y", UpAxis::Y), ("z", UpAxis::Z)])?;
+    options.up = choose(
+        "up",
+        up,
+        &[("auto", UpAxis::Auto), ("y", UpAxis::Y), ("z", UpAxis::Z)],
+    )?;
     options.color_map = choose(
         "colormap",
         colormap,
@@ -70,6 +77,7 @@ pub fn render<'py>(
     options.show_valleys = !no_valleys;
     options.legend = !no_legend;
     options.legend_title = legend_title.unwrap_or_default();
+    options.wireframe = wireframe;
     let lines = lines.as_ref().map(|l| l.get().feature_lines());
     let field = field.as_deref();
     match path {

@@ -105,6 +105,8 @@ def test_simplify_and_feature_distance(fandisk, lines):
 def test_render(fandisk, lines, tmp_path):
     png = crestline.render(*fandisk, lines, size=(200, 150))
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    assert crestline.render(*fandisk, lines, size=(200, 150), up="y") == png
+    assert crestline.render(*fandisk, lines, size=(200, 150), wireframe=True) != png
     field = crestline.curvature(*fandisk)["k_max"]
     for extension in ("png", "svg", "html"):
         path = tmp_path / f"picture.{extension}"
