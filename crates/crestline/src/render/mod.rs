@@ -7,6 +7,9 @@
 //! [`render_svg`] and [`render_html`] produce the three file formats; [`write_png`],
 //! [`write_svg`], [`write_html`] and [`write_picture`] write them to a file in one call.
 //!
+//! This module needs the `render` cargo feature (off by default, it adds the `tiny-skia`
+//! dependency): `crestline = { version = "0.1", features = ["render"] }`.
+//!
 //! ## How
 //! Everything runs on the CPU, one step per file:
 //! 1. `camera.rs` — an orthographic camera turning around the model (azimuth, elevation in
