@@ -9,11 +9,11 @@ use crestline::TriMesh;
 use crestline::curvature::{CurvatureOptions, estimate};
 use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::lines::FeatureLines;
-use crestline::render::{ColorMapChoice, FieldRange, RenderOptions, UpAxis};
+use crestline::render::{ColorMapChoice, FieldRange, RenderOptions, UpAxis, guess_up_axis};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
 use crate::input::{MeshArgs, OrientArgs, prepare_mesh, read_lines};
-use crate::progress;
+use crate::progress::{self, note};
 
 /// Per-vertex fields that can colour the mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -52,12 +52,54 @@ impl FieldArg {
 }
 
 /// The model's up axis.
-#[derive(Debug, Clone, Copy, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum UpArg {
+    /// Guessed from the mesh: Z when it stands on a flat base along Z, else Y.
+    Auto,
     /// +Y up (OBJ convention).
     Y,
     /// +Z up (CAD convention).
     Z,
+}
+
+/// `--up`, shared by every command that draws the mesh.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct UpArgs {
+    /// The model's up axis; `auto` guesses it from the mesh (a flat base along Z, or a
+    /// sheet in an XZ plane, means Z; anything else Y) and says which it chose.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub up: UpArg,
+}
+
+impl UpArgs {
+    /// The library's up axis.
+    pub fn axis(self) -> UpAxis {
+        match self.up {
+            UpArg::Auto => UpAxis::Auto,
+            UpArg::Y => UpAxis::Y,
+            UpArg::Z => UpAxis::Z,
+        }
+    }
+}
+
+/// `--wireframe`, shared by every command that draws PNG or SVG pictures.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct WireframeArgs {
+    /// Draw the mesh's edges over the surface (PNG and SVG; hidden edges hidden, edges
+    /// closer together than a few pixels faded out).
+    #[arg(long)]
+    pub wireframe: bool,
+}
+
+/// The up axis to draw `mesh` with: `up` itself, or the guess when it is automatic, said
+/// on stderr.
+pub fn resolve_up(up: UpAxis, mesh: &TriMesh) -> UpAxis {
+    if up != UpAxis::Auto {
+        return up;
+    }
+    let guess = guess_up_axis(mesh);
+    note!("up axis: {guess}; choose with --up y or --up z");
+    guess.axis
 }
 
 /// Colour maps.
@@ -88,9 +130,8 @@ pub struct SceneArgs {
     /// Camera azimuth and elevation in degrees [default: 30,20].
     #[arg(long, value_name = "AZ,EL", value_parser = parse_view, allow_hyphen_values = true)]
     pub view: Option<(f64, f64)>,
-    /// The model's up axis.
-    #[arg(long, value_enum, default_value = "y")]
-    pub up: UpArg,
+    #[command(flatten)]
+    pub up: UpArgs,
     /// Colour map for --field.
     #[arg(long, value_enum, default_value = "auto")]
     pub colormap: ColorMapArg,
@@ -152,10 +193,7 @@ impl SceneArgs {
         if let Some((azimuth, elevation)) = self.view {
             opts = opts.with_view(azimuth, elevation);
         }
-        opts.up = match self.up {
-            UpArg::Y => UpAxis::Y,
-            UpArg::Z => UpAxis::Z,
-        };
+        opts.up = self.up.axis();
         opts.color_map = match self.colormap {
             ColorMapArg::Auto => ColorMapChoice::Auto,
             ColorMapArg::Viridis => ColorMapChoice::Viridis,

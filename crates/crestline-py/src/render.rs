@@ -2,12 +2,14 @@
 
 use std::path::PathBuf;
 
-use crestline::render::{ColorMapChoice, RenderOptions, UpAxis, render_png, write_picture};
+use crestline::render::{
+    ColorMapChoice, FieldRange, RenderOptions, UpAxis, render_png, write_picture,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::arrays::per_vertex;
-use crate::error::{choose, to_py_err};
+use crate::error::{choose, invalid, to_py_err};
 use crate::lines::Lines;
 use crate::mesh::mesh_from_arrays;
 
@@ -17,14 +19,18 @@ use crate::mesh::mesh_from_arrays;
 /// Without `path` returns the PNG file's bytes; with `path` writes a PNG, SVG (raster mesh,
 /// vector lines) or HTML (the self-contained WebGL viewer) picture, chosen by the extension,
 /// and returns None. Options, with the defaults of `crestline render`: `view` (azimuth,
-/// elevation) in degrees (30, 20); `size` (width, height) in pixels (1024, 1024); `up` "y"
-/// or "z"; `colormap` "auto", "viridis" or "diverging"; `line_width` in pixels (2.5);
-/// `no_ridges`, `no_valleys`, `no_legend`; `legend_title` (default: none).
+/// elevation) in degrees (30, 20); `size` (width, height) in pixels (1024, 1024); `up`
+/// "auto" (guessed from the mesh: "z" when it stands on a flat base along Z, else "y"), "y"
+/// or "z"; `colormap` "auto", "viridis" or "diverging"; `field_range` the field values at the
+/// ends of the colour map, a percentile p (the p-th to (100-p)-th percentiles, 0 for the whole
+/// range; 2) or (min, max); `line_width` in pixels (2.5);
+/// `no_ridges`, `no_valleys`, `no_legend`; `legend_title` (default: none); `wireframe`
+/// draws the mesh's edges, hidden ones hidden (PNG and SVG; default False).
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, lines = None, field = None, path = None, *, view = None, size = None,
-    up = "y", colormap = "auto", line_width = None, no_ridges = false, no_valleys = false,
-    no_legend = false, legend_title = None,
+    up = "auto", colormap = "auto", field_range = None, line_width = None, no_ridges = false, no_valleys = false,
+    no_legend = false, legend_title = None, wireframe = false,
 ))]
 pub fn render<'py>(
     py: Python<'py>,
@@ -37,11 +43,13 @@ pub fn render<'py>(
     size: Option<(u32, u32)>,
     up: &str,
     colormap: &str,
+    field_range: Option<&Bound<'py, PyAny>>,
     line_width: Option<f64>,
     no_ridges: bool,
     no_valleys: bool,
     no_legend: bool,
     legend_title: Option<String>,
+    wireframe: bool,
 ) -> PyResult<Option<Bound<'py, PyBytes>>> {
     // The picture shows the mesh as given, as `crestline render` does.
     let mesh = mesh_from_arrays(vertices, faces, true)?;
@@ -55,7 +63,11 @@ pub fn render<'py>(
     if let Some((width, height)) = size {
         options = options.with_size(width, height);
     }
-    options.up = choose("up", up, &[("y", UpAxis::Y), ("z", UpAxis::Z)])?;
+    options.up = choose(
+        "up",
+        up,
+        &[("auto", UpAxis::Auto), ("y", UpAxis::Y), ("z", UpAxis::Z)],
+    )?;
     options.color_map = choose(
         "colormap",
         colormap,
@@ -65,11 +77,15 @@ pub fn render<'py>(
             ("diverging", ColorMapChoice::Diverging),
         ],
     )?;
+    if let Some(range) = field_range {
+        options.field_range = field_range_from(range)?;
+    }
     options.line_width = line_width.unwrap_or(options.line_width);
     options.show_ridges = !no_ridges;
     options.show_valleys = !no_valleys;
     options.legend = !no_legend;
     options.legend_title = legend_title.unwrap_or_default();
+    options.wireframe = wireframe;
     let lines = lines.as_ref().map(|l| l.get().feature_lines());
     let field = field.as_deref();
     match path {
@@ -85,4 +101,18 @@ pub fn render<'py>(
             Ok(Some(PyBytes::new(py, &png)))
         }
     }
+}
+
+/// `field_range` as the library's: a number is a percentile, a pair the end values (both
+/// checked with the other options).
+fn field_range_from(value: &Bound<'_, PyAny>) -> PyResult<FieldRange> {
+    if let Ok(p) = value.extract::<f64>() {
+        return Ok(FieldRange::Percentile(p));
+    }
+    if let Ok((min, max)) = value.extract::<(f64, f64)>() {
+        return Ok(FieldRange::Fixed { min, max });
+    }
+    Err(invalid(
+        "field_range must be a percentile (a number from 0 to below 50) or (min, max)",
+    ))
 }

@@ -105,7 +105,15 @@ def test_simplify_and_feature_distance(fandisk, lines):
 def test_render(fandisk, lines, tmp_path):
     png = crestline.render(*fandisk, lines, size=(200, 150))
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    assert crestline.render(*fandisk, lines, size=(200, 150), up="y") == png
+    assert crestline.render(*fandisk, lines, size=(200, 150), wireframe=True) != png
     field = crestline.curvature(*fandisk)["k_max"]
+    coloured = crestline.render(*fandisk, lines, field, size=(64, 64))
+    assert crestline.render(*fandisk, lines, field, size=(64, 64), field_range=2) == coloured
+    assert crestline.render(*fandisk, lines, field, size=(64, 64), field_range=0) != coloured
+    assert crestline.render(*fandisk, lines, field, size=(64, 64), field_range=(-1, 1)) != coloured
+    with pytest.raises(ValueError):
+        crestline.render(*fandisk, field=field, field_range=60)
     for extension in ("png", "svg", "html"):
         path = tmp_path / f"picture.{extension}"
         assert crestline.render(*fandisk, lines, field, path, size=(64, 64)) is None

@@ -1,7 +1,7 @@
 //! Rendering speed: a subdivided icosphere of 1.3 million faces at 1024x1024, with and
 //! without a colour map and lines.
 //!
-//! Run: `cargo bench -p crestline --bench render`
+//! Run: `cargo bench -p crestline --features render --bench render`
 
 use std::hint::black_box;
 

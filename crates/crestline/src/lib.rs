@@ -66,6 +66,7 @@ pub mod extremality;
 pub mod io;
 pub mod lines;
 pub mod mesh;
+#[cfg(feature = "render")]
 pub mod render;
 pub mod saliency;
 pub mod shapes;

@@ -26,6 +26,7 @@ use super::curvature::EstimatorArg;
 use crate::input::{FormatArg, OrientArgs, is_dash, load_mesh, prepare_mesh};
 use crate::output::{display, refuse_overwriting_inputs, to_stdout};
 use crate::progress::{self, note};
+use crate::scene::{UpArg, UpArgs, WireframeArgs, resolve_up};
 
 /// Which pipeline runs.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -158,11 +159,16 @@ pub struct Args {
     /// Also write a self-contained interactive viewer (HTML, WebGL).
     #[arg(long, value_name = "VIEW.html")]
     pub html: Option<PathBuf>,
+    #[command(flatten)]
+    pub up: UpArgs,
+    #[command(flatten)]
+    pub wireframe: WireframeArgs,
 }
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
     check_method_options(&args)?;
+    check_picture_options(&args)?;
     let is_batch = args.meshes.len() > 1 || args.meshes.iter().any(|p| p.is_dir());
     if is_batch {
         return batch::run(&args);
@@ -211,7 +217,11 @@ pub fn run(args: Args) -> Result<()> {
         write: clock.elapsed(),
     };
 
-    let picture_options = crestline::render::RenderOptions::default();
+    let mut picture_options =
+        crestline::render::RenderOptions::default().with_wireframe(args.wireframe.wireframe);
+    if args.png.is_some() || args.svg.is_some() || args.html.is_some() {
+        picture_options.up = resolve_up(args.up.axis(), &mesh);
+    }
     for (path, write) in [
         (&args.png, crestline::render::write_png as PictureWriter),
         (&args.svg, crestline::render::write_svg),
@@ -354,6 +364,18 @@ fn check_method_options(args: &Args) -> Result<()> {
             "options that --method {method_name} would not use: {}",
             unused.join("; ")
         );
+    }
+    Ok(())
+}
+
+/// Refuses the picture options without a picture to apply them to.
+fn check_picture_options(args: &Args) -> Result<()> {
+    let raster = args.png.is_some() || args.svg.is_some();
+    if args.wireframe.wireframe && !raster {
+        bail!("--wireframe draws on the picture of --png or --svg: give one of them");
+    }
+    if args.up.up != UpArg::Auto && !raster && args.html.is_none() {
+        bail!("--up orients the picture of --png, --svg or --html: give one of them");
     }
     Ok(())
 }

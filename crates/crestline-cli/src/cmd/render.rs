@@ -10,7 +10,7 @@ use crestline::render::{PictureFormat, render_html, render_png, render_svg, writ
 use crate::input::is_dash;
 use crate::output::{display, to_path_or_stdout};
 use crate::progress::{self, note};
-use crate::scene::{SceneArgs, parse_size};
+use crate::scene::{SceneArgs, WireframeArgs, parse_size, resolve_up};
 
 /// Picture formats.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -41,6 +41,8 @@ pub struct Args {
     /// Do not draw the colour bar of --field.
     #[arg(long)]
     pub no_legend: bool,
+    #[command(flatten)]
+    pub wireframe: WireframeArgs,
 }
 
 /// Runs the subcommand.
@@ -55,14 +57,19 @@ pub fn run(args: Args) -> Result<()> {
         }
         (None, false) => PictureFormat::from_path(&args.output)?,
     };
+    if args.wireframe.wireframe && format == PictureFormat::Html {
+        bail!("--wireframe: the HTML viewer draws no wireframe; write a .png or .svg picture");
+    }
     let mut opts = args.scene.options();
     if let Some((w, h)) = args.size {
         opts = opts.with_size(w, h);
     }
     opts.legend = !args.no_legend;
+    opts.wireframe = args.wireframe.wireframe;
     opts.validate()?;
     args.scene.refuse_overwriting_inputs(&args.output)?;
     let scene = args.scene.load()?;
+    opts.up = resolve_up(opts.up, &scene.mesh);
     let (mesh, lines, field) = (&scene.mesh, scene.lines.as_ref(), scene.field.as_deref());
     let picture = || -> Result<Vec<u8>> {
         Ok(match format {

@@ -8,7 +8,7 @@ use anyhow::{Context, Result};
 use crate::input::is_dash;
 use crate::output::{display, to_stdout};
 use crate::progress::note;
-use crate::scene::SceneArgs;
+use crate::scene::{SceneArgs, resolve_up};
 
 /// Arguments of `crestline view`.
 #[derive(Debug, clap::Args)]
@@ -22,10 +22,11 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    let opts = args.scene.options();
+    let mut opts = args.scene.options();
     opts.validate()?;
     args.scene.refuse_overwriting_inputs(&args.output)?;
     let scene = args.scene.load()?;
+    opts.up = resolve_up(opts.up, &scene.mesh);
     let (mesh, lines, field) = (&scene.mesh, scene.lines.as_ref(), scene.field.as_deref());
     if is_dash(&args.output) {
         let html = crestline::render::render_html(mesh, lines, field, &opts)?;

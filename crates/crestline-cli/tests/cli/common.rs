@@ -20,6 +20,26 @@ pub fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// Checks that the run succeeded without a panic and returns it.
+pub fn ok(out: Output) -> Output {
+    assert!(out.status.success(), "failed: {}", stderr(&out));
+    assert!(!stderr(&out).contains("panicked"));
+    out
+}
+
+/// Checks that the run failed cleanly and returns its stderr.
+pub fn fails(out: Output) -> String {
+    let err = stderr(&out);
+    assert!(!out.status.success(), "should fail; stderr: {err}");
+    assert!(!err.contains("panicked"), "panicked: {err}");
+    err
+}
+
+/// A path as an argument.
+pub fn s(p: &Path) -> &str {
+    p.to_str().expect("a UTF-8 path")
+}
+
 /// The shared mesh folder (`../shared/data/meshes` beside the repository).
 pub fn shared_meshes_dir() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");

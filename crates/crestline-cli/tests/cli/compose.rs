@@ -9,7 +9,7 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
-use crate::common::{crestline as run, stderr};
+use crate::common::{crestline as run, fails, ok, s, stderr};
 use crestline::io::lines::read_lines;
 use crestline::io::{Format, WriteOptions, write_mesh};
 use crestline::lines::FeatureLines;
@@ -27,24 +27,6 @@ fn run_with_stdin(args: &[&str], input: &[u8]) -> Output {
         .unwrap();
     child.stdin.take().unwrap().write_all(input).unwrap();
     child.wait_with_output().unwrap()
-}
-
-fn ok(out: Output) -> Output {
-    assert!(out.status.success(), "failed: {}", stderr(&out));
-    assert!(!stderr(&out).contains("panicked"));
-    out
-}
-
-/// Checks that the run failed cleanly and returns its stderr.
-fn fails(out: Output) -> String {
-    let err = stderr(&out);
-    assert!(!out.status.success(), "should fail; stderr: {err}");
-    assert!(!err.contains("panicked"), "panicked: {err}");
-    err
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 /// The ellipsoid x²/9 + y²/4 + z² = 1 (1280 triangles), one closed ridge, as OBJ in `dir`;

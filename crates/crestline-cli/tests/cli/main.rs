@@ -8,5 +8,6 @@ mod curvature_cli;
 mod extract_cli;
 mod info;
 mod orientation;
+mod render_cli;
 mod simplify;
 mod subdivide;

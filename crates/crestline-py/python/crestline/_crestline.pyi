@@ -177,15 +177,21 @@ def render(
     *,
     view: Optional[Tuple[float, float]] = None,
     size: Optional[Tuple[int, int]] = None,
-    up: Literal["y", "z"] = "y",
+    up: Literal["auto", "y", "z"] = "auto",
     colormap: Literal["auto", "viridis", "diverging"] = "auto",
+    field_range: Union[float, Tuple[float, float], None] = None,
     line_width: Optional[float] = None,
     no_ridges: bool = False,
     no_valleys: bool = False,
     no_legend: bool = False,
     legend_title: Optional[str] = None,
+    wireframe: bool = False,
 ) -> Optional[bytes]:
     """A picture of the mesh, its lines and a field: PNG bytes, or a .png/.svg/.html file at ``path``.
 
-    Defaults as ``crestline render``: view (30, 20), size (1024, 1024), line width 2.5.
+    Defaults as ``crestline render``: view (30, 20), size (1024, 1024), line width 2.5, colours
+    clipped to the 2nd and 98th percentiles of the field (``field_range=p`` for the p-th, 0 for
+    the whole range, or ``(min, max)``), up axis
+    guessed from the mesh ("auto": "z" when it stands on a flat base along Z, else "y"), no
+    wireframe (``wireframe=True`` draws the mesh's edges, hidden ones hidden; PNG and SVG).
     """

@@ -40,9 +40,10 @@ pub struct Camera {
 impl Camera {
     /// A camera looking from `azimuth`, `elevation` (degrees) at the origin, one pixel per
     /// model unit, the origin at pixel (0, 0). Use [`Camera::fit`] to frame a model.
+    /// [`UpAxis::Auto`] needs a mesh to be resolved ([`UpAxis::resolve`]); here it is +Y.
     pub fn orbit(azimuth: f64, elevation: f64, up_axis: UpAxis) -> Camera {
         let (up, front) = match up_axis {
-            UpAxis::Y => (Vec3::y(), Vec3::z()),
+            UpAxis::Y | UpAxis::Auto => (Vec3::y(), Vec3::z()),
             UpAxis::Z => (Vec3::z(), -Vec3::y()),
         };
         let side = up.cross(&front);

@@ -107,7 +107,7 @@ pub fn render_html(
     };
     let ridges = segments(LineKind::Ridge);
     let valleys = segments(LineKind::Valley);
-    let config = config_json(opts, color_scale.as_ref());
+    let config = config_json(opts, opts.up.resolve(mesh), color_scale.as_ref());
     let title = if opts.legend_title.is_empty() {
         "crestline viewer".to_string()
     } else {
@@ -145,7 +145,7 @@ pub fn render_html(
 }
 
 /// The options the page reads, as a JSON object literal.
-fn config_json(opts: &RenderOptions, scale: Option<&ColorScale>) -> String {
+fn config_json(opts: &RenderOptions, up: UpAxis, scale: Option<&ColorScale>) -> String {
     let rgb = |c: Rgb| format!("[{},{},{}]", c[0], c[1], c[2]);
     let num = |v: f64| {
         if v.is_finite() {
@@ -160,10 +160,7 @@ fn config_json(opts: &RenderOptions, scale: Option<&ColorScale>) -> String {
         "\"azimuth\":{},\"elevation\":{},\"up\":\"{}\",",
         num(opts.azimuth),
         num(opts.elevation),
-        match opts.up {
-            UpAxis::Y => "y",
-            UpAxis::Z => "z",
-        }
+        up.name()
     );
     let _ = write!(
         s,

@@ -7,16 +7,21 @@
 //! [`render_svg`] and [`render_html`] produce the three file formats; [`write_png`],
 //! [`write_svg`], [`write_html`] and [`write_picture`] write them to a file in one call.
 //!
+//! This module needs the `render` cargo feature (off by default, it adds the `tiny-skia`
+//! dependency): `crestline = { version = "0.1", features = ["render"] }`.
+//!
 //! ## How
 //! Everything runs on the CPU, one step per file:
 //! 1. `camera.rs` — an orthographic camera turning around the model (azimuth, elevation in
-//!    degrees) and fitted to the projected mesh.
+//!    degrees) and fitted to the projected mesh; `up_axis.rs` — the model's up axis, guessed
+//!    from a flat base when not given.
 //! 2. `raster.rs` — a z-buffer rasteriser writing, per pixel, the depth and the index of the
 //!    nearest face (a "visibility buffer"), parallel over horizontal bands of the image;
 //!    then a shading pass: Lambert diffuse plus a Blinn specular highlight from a light
 //!    attached to the camera, two-sided (back faces are lit like front faces).
 //! 3. `colormap.rs` — viridis for one-signed fields, a diverging purple–white–green map
 //!    centred at 0 for signed fields, a robust range from percentiles, and the legend.
+//!    `wireframe.rs` — optionally, the edges of the visible faces, faded where they crowd.
 //! 4. `hidden_lines.rs` — every line segment is cut into pieces about one pixel long and each
 //!    piece's depth is tested against the z-buffer (with a small bias); consecutive visible
 //!    pieces are joined into strokes, drawn antialiased with `tiny-skia`.
@@ -41,6 +46,8 @@ mod hidden_lines;
 mod html;
 mod raster;
 mod svg;
+mod up_axis;
+mod wireframe;
 
 use std::io::Write;
 use std::path::Path;
@@ -54,19 +61,10 @@ pub use colormap::{ColorMap, ColorMapChoice, ColorScale, FieldRange, percentile_
 pub use hidden_lines::VisibleStroke;
 pub use html::render_html;
 pub use svg::render_svg;
+pub use up_axis::{UpAxis, UpGuess, UpReason, guess_up_axis};
 
 /// An sRGB colour, 8 bits per channel.
 pub type Rgb = [u8; 3];
-
-/// Which model axis points up on screen at elevation 0.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum UpAxis {
-    /// +Y up, the camera at azimuth 0 looks along -Z (the usual OBJ convention).
-    #[default]
-    Y,
-    /// +Z up, the camera at azimuth 0 looks along +Y (the CAD and Blender convention).
-    Z,
-}
 
 /// How a picture is made.
 ///
@@ -83,7 +81,8 @@ pub struct RenderOptions {
     pub azimuth: f64,
     /// Camera elevation in degrees above the horizontal plane, in [-90, 90]. Default: 20.
     pub elevation: f64,
-    /// The model's up axis. Default: [`UpAxis::Y`].
+    /// The model's up axis. Default: [`UpAxis::Auto`], guessed from the mesh by
+    /// [`guess_up_axis`] (a flat base along Z gives Z, anything else Y).
     pub up: UpAxis,
     /// Free border around the mesh as a fraction of the image size, in [0, 0.45].
     /// Default: 0.05.
@@ -129,6 +128,12 @@ pub struct RenderOptions {
     pub legend: bool,
     /// Title written above the colour bar (ASCII letters, digits, `_ . - +`). Default: empty.
     pub legend_title: String,
+    /// Draw the mesh's edges over the surface, hidden edges hidden, in PNG and SVG pictures
+    /// (the HTML viewer has no wireframe). Edges fade out where they come closer than a few
+    /// pixels, so a dense mesh shows its surface rather than a dark smear. Default: false.
+    pub wireframe: bool,
+    /// Colour of the wireframe. Default: dark grey `[40, 40, 40]`.
+    pub wireframe_color: Rgb,
 }
 
 impl RenderOptions {
@@ -138,7 +143,7 @@ impl RenderOptions {
         height: 1024,
         azimuth: 30.0,
         elevation: 20.0,
-        up: UpAxis::Y,
+        up: UpAxis::Auto,
         margin: 0.05,
         background: [255, 255, 255],
         surface: [200, 200, 200],
@@ -158,6 +163,8 @@ impl RenderOptions {
         field_range: FieldRange::Percentile(2.0),
         legend: true,
         legend_title: String::new(),
+        wireframe: false,
+        wireframe_color: [40, 40, 40],
     };
 
     /// Sets the image size in pixels.
@@ -177,6 +184,12 @@ impl RenderOptions {
     /// Sets the model's up axis.
     pub fn with_up(mut self, up: UpAxis) -> Self {
         self.up = up;
+        self
+    }
+
+    /// Draws the mesh's edges (or not).
+    pub fn with_wireframe(mut self, wireframe: bool) -> Self {
+        self.wireframe = wireframe;
         self
     }
 
@@ -284,6 +297,8 @@ pub struct Frame {
     pub strokes: Vec<VisibleStroke>,
     /// The camera that made the picture.
     pub camera: Camera,
+    /// The up axis the camera used ([`UpAxis::Auto`] resolved).
+    pub up: UpAxis,
 }
 
 /// Renders the mesh and the visible parts of the lines, keeping the strokes apart from the
@@ -320,7 +335,8 @@ pub fn render_frame(
         width: (width - legend_width) as f64,
         height: height as f64,
     };
-    let camera = Camera::orbit(opts.azimuth, opts.elevation, opts.up).fit(
+    let up = opts.up.resolve(mesh);
+    let camera = Camera::orbit(opts.azimuth, opts.elevation, up).fit(
         fit_points(mesh, lines),
         viewport,
         opts.margin,
@@ -331,6 +347,9 @@ pub fn render_frame(
     let shading = raster::Shading::new(mesh, &camera, opts);
     let colors = scale.as_ref().zip(field);
     raster::shade(&visibility, mesh, &screen, &shading, colors, &mut rgba);
+    if opts.wireframe {
+        wireframe::draw(&visibility, mesh, &screen, opts.wireframe_color, &mut rgba);
+    }
     if let (Some(scale), true) = (&scale, opts.legend) {
         colormap::draw_legend(&mut rgba, width, height, scale, &opts.legend_title);
     }
@@ -350,6 +369,7 @@ pub fn render_frame(
         image: Image { pixmap },
         strokes,
         camera,
+        up,
     })
 }
 

@@ -30,7 +30,7 @@ use crate::mesh::{TriMesh, Vec3, vertex_normals_area};
 /// Rows per band of parallel work.
 pub const BAND_ROWS: usize = 16;
 /// Sub-pixel steps per pixel of the snapped coordinates.
-const SUB: i64 = 256;
+pub(super) const SUB: i64 = 256;
 /// Faces per unit of parallel work when sorting faces into bands.
 const BIN_CHUNK: usize = 1 << 15;
 /// Marks a pixel no face covers.
@@ -39,10 +39,10 @@ pub const NO_FACE: u32 = u32::MAX;
 const MAX_PIXEL: f64 = 1.0e6;
 
 /// A projected vertex: position in 1/256 pixel and depth (smaller is nearer).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ScreenVertex {
-    x: i64,
-    y: i64,
+    pub(super) x: i64,
+    pub(super) y: i64,
     z: f32,
 }
 
@@ -88,7 +88,7 @@ pub fn project_vertices(mesh: &TriMesh, camera: &Camera) -> Vec<ScreenVertex> {
 /// Twice the signed area of (a, b, p) in snapped units; positive when p is to the left of
 /// a→b in a y-down frame seen as y-up (the orientation does not matter to callers).
 #[inline]
-fn edge(a: (i64, i64), b: (i64, i64), p: (i64, i64)) -> i64 {
+pub(super) fn edge(a: (i64, i64), b: (i64, i64), p: (i64, i64)) -> i64 {
     (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0)
 }
 
@@ -135,7 +135,7 @@ fn max3(a: [i64; 3]) -> i64 {
 }
 
 #[inline]
-fn corners(screen: &[ScreenVertex], t: &[u32; 3]) -> [ScreenVertex; 3] {
+pub(super) fn corners(screen: &[ScreenVertex], t: &[u32; 3]) -> [ScreenVertex; 3] {
     [
         screen[t[0] as usize],
         screen[t[1] as usize],
@@ -334,21 +334,33 @@ pub fn shade(
     field: Option<(&ColorScale, &[f64])>,
     rgba: &mut [u8],
 ) {
-    let width = buffer.width;
     let faces = mesh.faces();
+    for_each_pixel(buffer, rgba, |face, p, px| {
+        let rgb = match face {
+            None => shading.background,
+            Some(f) => shade_pixel(mesh, faces[f as usize], screen, shading, field, p),
+        };
+        px.copy_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
+    });
+}
+
+/// Calls `paint` on every pixel of `rgba` (row-major RGBA, the buffer's size), in parallel
+/// over rows, with the face seen there (`None` where no face is) and the pixel's centre in
+/// snapped units.
+pub fn for_each_pixel(
+    buffer: &VisibilityBuffer,
+    rgba: &mut [u8],
+    paint: impl Fn(Option<u32>, (i64, i64), &mut [u8]) + Sync,
+) {
+    let width = buffer.width;
     rgba.par_chunks_mut(width * 4)
         .enumerate()
         .for_each(|(row, out)| {
             let y = row as i64 * SUB + SUB / 2;
             for (col, px) in out.chunks_exact_mut(4).enumerate() {
-                let f = buffer.face[row * width + col];
-                let rgb = if f == NO_FACE {
-                    shading.background
-                } else {
-                    let x = col as i64 * SUB + SUB / 2;
-                    shade_pixel(mesh, faces[f as usize], screen, shading, field, (x, y))
-                };
-                px.copy_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
+                let face = buffer.face[row * width + col];
+                let x = col as i64 * SUB + SUB / 2;
+                paint((face != NO_FACE).then_some(face), (x, y), px);
             }
         });
 }

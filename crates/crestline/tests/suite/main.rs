@@ -1,5 +1,7 @@
 //! The library's integration tests, one module per area, linked into one test binary (a
 //! binary per file would link the library two dozen times). `common` holds the shared helpers.
+//! The picture tests (`render`, `html_viewer`) need the `render` feature:
+//! `cargo test -p crestline --features render` (the workspace's tests turn it on for the CLI).
 
 mod auto_threshold;
 mod bad_input;
@@ -12,12 +14,14 @@ mod curvature_robust;
 mod extract;
 mod extract_real_meshes;
 mod extract_ybs;
+#[cfg(feature = "render")]
 mod html_viewer;
 mod invariance;
 mod io_robustness;
 mod io_round_trip;
 mod quality_cases;
 mod real_meshes;
+#[cfg(feature = "render")]
 mod render;
 mod simplify;
 mod simplify_real_meshes;

@@ -352,3 +352,57 @@ fn bad_input_is_refused_with_a_message() {
     hidden.show_field = false;
     assert!(render_image(&quad(), None, Some(&[1.0]), &hidden).is_ok());
 }
+
+#[test]
+fn the_wireframe_draws_the_visible_edges_only() {
+    // The front quad at z = 0.5; a smaller quad at z = -0.5 behind it, whose edges at
+    // x = ±0.5 are hidden.
+    let mut positions: Vec<[f64; 3]> = quad().positions().iter().map(|p| [p.x, p.y, 0.5]).collect();
+    positions.extend(
+        quad()
+            .positions()
+            .iter()
+            .map(|p| [p.x / 2.0, p.y / 2.0, -0.5]),
+    );
+    let faces = vec![[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]];
+    let mesh = TriMesh::from_arrays(positions, faces).unwrap();
+    // Seen from the front (the guess would take the back quad for a base along Z).
+    let front = flat_options().with_up(UpAxis::Y);
+    let plain = render_image(&mesh, None, None, &front).unwrap();
+    let opts = front.with_wireframe(true);
+    assert_eq!(opts.wireframe_color, [40, 40, 40]);
+    let wired = render_image(&mesh, None, None, &opts).unwrap();
+    // On the front quad's diagonal (pixel centre (124.5, 75.5) lies on x + y = 200): 75%
+    // wire colour over the surface.
+    assert!(
+        close(rgb(&wired, (124, 75)), [80, 80, 80], 2),
+        "{:?}",
+        rgb(&wired, (124, 75))
+    );
+    assert_eq!(rgb(&plain, (124, 75)), SURFACE);
+    // Where the hidden quad's edge x = 0.5 projects, and inside the faces, nothing changes.
+    for p in [px(0.5, -0.2), px(0.5, 0.2), px(-0.5, 0.3), px(0.5, -0.8)] {
+        assert_eq!(rgb(&wired, p), SURFACE, "{p:?}");
+    }
+}
+
+#[test]
+fn the_frame_tells_which_up_axis_was_used() {
+    let up = |mesh: &TriMesh, up| {
+        let opts = flat_options().with_up(up);
+        render_frame(mesh, None, None, &opts).unwrap().up
+    };
+    // A cube stands on a base along Y and along Z alike: no clear answer, so +Y.
+    let (cube, _) = shapes::pillow_box(1.0, 0.0, 4);
+    assert_eq!(up(&cube, UpAxis::Auto), UpAxis::Y);
+    assert_eq!(up(&cube, UpAxis::Z), UpAxis::Z);
+    // Flattened along Z, it lies on its large face.
+    let positions = cube
+        .positions()
+        .iter()
+        .map(|p| Vec3::new(p.x, p.y, 0.1 * p.z));
+    let slab = cube.with_positions(positions.collect()).unwrap();
+    assert_eq!(up(&slab, UpAxis::Auto), UpAxis::Z);
+    // The quad of the other tests is a flat sheet seen face-on.
+    assert_eq!(up(&quad(), UpAxis::Auto), UpAxis::Y);
+}
