@@ -85,6 +85,7 @@ use crate::curvature::{self, Curvature, CurvatureOptions, Estimator};
 use crate::error::Result;
 use crate::lines::crease::{CreaseOptions, find_creases};
 use crate::lines::fair::{Fairing, fair_lines};
+pub use crate::lines::filter::HPW_DEFAULT_THRESHOLD;
 use crate::lines::filter::{LineFilter, StrengthMeasure, filter_lines};
 use crate::lines::gap::GapJumping;
 use crate::lines::link::{LinkOptions, link_feature_points};
@@ -179,9 +180,6 @@ pub struct ExtractOptions {
     pub merge: MergeOptions,
 }
 
-/// Default threshold of the HPW pipeline on T (dimensionless). Measured: spurious lines on a
-/// torus have T ≈ 0.01, the ellipsoid's crest line T ≈ 40, fandisk's creases T ≈ 2 to 13.
-pub const HPW_DEFAULT_THRESHOLD: f64 = 1.0;
 /// Default threshold of the YBS pipeline on T (dimensionless, as in the paper's figures):
 /// the floor of its automatic threshold, and the threshold when the strengths have no knee.
 pub const YBS_DEFAULT_THRESHOLD: f64 = 1.0;

@@ -6,6 +6,10 @@
 
 use super::{FeatureLine, FeatureLines};
 
+/// Default threshold of the HPW pipeline on T (dimensionless). Measured: spurious lines on a
+/// torus have T ≈ 0.01, the ellipsoid's crest line T ≈ 40, fandisk's creases T ≈ 2 to 13.
+pub const HPW_DEFAULT_THRESHOLD: f64 = 1.0;
+
 /// Which strength a threshold applies to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum StrengthMeasure {

@@ -54,6 +54,7 @@
 //! (measured on the public CAD parts, `score_cad.py`: mean F1 0.81 without, 0.98 with; on the
 //! quality cases 0.897 without, 0.892 with).
 
+use super::filter::HPW_DEFAULT_THRESHOLD;
 use crate::curvature::Curvature;
 use crate::mesh::{TriMesh, Vec3};
 
@@ -75,7 +76,7 @@ pub struct LinkOptions {
     pub extend: bool,
     /// Lines are kept when the network of lines they belong to has strength `T` (YBS eq. 5,
     /// over the whole network) of at least this (see the module docs, *Strength*). Default:
-    /// [`crate::extract::HPW_DEFAULT_THRESHOLD`], the noise floor of the other methods.
+    /// [`HPW_DEFAULT_THRESHOLD`], the noise floor of the other methods.
     pub min_strength: f64,
 }
 
@@ -84,7 +85,7 @@ impl Default for LinkOptions {
         LinkOptions {
             weak_fraction: 0.8,
             extend: true,
-            min_strength: crate::extract::HPW_DEFAULT_THRESHOLD,
+            min_strength: HPW_DEFAULT_THRESHOLD,
         }
     }
 }

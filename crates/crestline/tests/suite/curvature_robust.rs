@@ -232,7 +232,7 @@ fn invalid_options_are_errors() {
 fn regular_triangles_on_analytic_shapes() {
     // Away from umbilics the directions vary slowly, so (almost) every triangle is regular;
     // on the torus (no umbilic) all of them.
-    use crestline::extremality::triangle_regularity;
+    use crestline::curvature::extremality::triangle_regularity;
     let m = shapes::torus_with(3.0, 1.0, 48, 16, GridPattern::Uniform);
     for c in [so(&m), cf(&m)] {
         let r = triangle_regularity(&m, &c);
