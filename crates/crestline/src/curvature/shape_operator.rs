@@ -698,27 +698,7 @@ mod tests {
         // e_x for the edges to ±e_y): S(p) = 2/√3 (e_x e_xᵀ + e_y e_yᵀ). The star is four
         // equilateral triangles of side √2, area 4 · √3/2 = 2√3, so the point value is
         // 3/(2√3) · 2/√3 = 1 in both directions.
-        let m = TriMesh::from_arrays(
-            vec![
-                [1.0, 0.0, 0.0],
-                [-1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, -1.0, 0.0],
-                [0.0, 0.0, 1.0],
-                [0.0, 0.0, -1.0],
-            ],
-            vec![
-                [0, 2, 4],
-                [2, 1, 4],
-                [1, 3, 4],
-                [3, 0, 4],
-                [2, 0, 5],
-                [1, 2, 5],
-                [3, 1, 5],
-                [0, 3, 5],
-            ],
-        )
-        .unwrap();
+        let m = crate::shapes::octahedron();
         let c = shape_operator(&m, &ShapeOperatorOptions::DEFAULT);
         assert_eq!(c.fallback_vertices, 0);
         for v in 0..6 {
