@@ -248,7 +248,7 @@ pub fn load_lines(path: Option<&Path>, mesh: &TriMesh) -> Result<FeatureLines> {
             };
             crate::progress::note!(
                 "no --lines given: extracting them with the default method ({:?})",
-                options.method
+                options.method()
             );
             Ok(extract(mesh, &options)
                 .context("cannot extract the lines")?

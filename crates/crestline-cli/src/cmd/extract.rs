@@ -10,7 +10,7 @@ use clap::ValueEnum;
 use crestline::curvature::Estimator;
 use crestline::curvature::cubic_fit::MAX_RINGS;
 use crestline::extract::{
-    ExtractOptions, ExtractStats, Extraction, Method, Stage, extract_with_progress,
+    ExtractOptions, ExtractStats, Extraction, Method, Pipeline, Stage, extract_with_progress,
 };
 use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines, write_lines_to};
@@ -18,6 +18,7 @@ use crestline::io::mask::read_diffusion_factors;
 use crestline::lines::crease::CreaseAngle;
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 use crestline::smoothing::surface::SurfaceSmoothing;
+use crestline::threshold::Threshold;
 use crestline::{TriMesh, Vec3};
 use indicatif::ProgressBar;
 
@@ -258,8 +259,8 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
     }
     if s.threshold_is_auto {
         eprintln!("automatic threshold: {:.6}", s.threshold);
-    } else if options.auto_threshold {
-        match options.method {
+    } else if options.pipeline.threshold().is_auto() {
+        match options.method() {
             Method::Saliency => {
                 eprintln!("automatic threshold: the saliency has no knee, no feature points")
             }
@@ -430,23 +431,22 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
         o.curvature.shape_operator.direction_support = support;
     }
     match args.threshold.as_deref() {
-        Some("auto") => o.auto_threshold = true,
+        Some("auto") => o.pipeline.set_threshold(o.pipeline.automatic_threshold()),
         Some(x) => {
-            o.filter.threshold = x
+            let t = x
                 .parse::<f64>()
                 .ok()
                 .filter(|t| t.is_finite())
                 .with_context(|| format!("--threshold takes a number or `auto`, got `{x}`"))?;
-            o.auto_threshold = false;
+            o.pipeline.set_threshold(Threshold::Fixed(t));
         }
         None => {}
     }
     if let Some(l) = args.min_length {
-        o.filter.min_length = l;
+        o.min_length = l;
     }
-    let diagonal = mesh.bounding_box().diagonal();
     if let Some(f) = args.fair {
-        o.fairing.tolerance = f * diagonal;
+        o.fairing.tolerance = f;
     }
     if let Some(n) = args.pre_smooth {
         o.pre_smoothing = SurfaceSmoothing {
@@ -466,8 +466,8 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
     if let Some(r) = args.radius {
         o.curvature.jet_fit.radius = r;
     }
-    if args.no_gaps {
-        o.gaps = None;
+    if let (true, Pipeline::Ybs(ybs)) = (args.no_gaps, &mut o.pipeline) {
+        ybs.gaps = None;
     }
     o.smoothing.diffusion = diffusion_factors(args, mesh)?;
     Ok(o)
