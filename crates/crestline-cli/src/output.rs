@@ -1,7 +1,7 @@
 //! Where results go: a file, or standard output for the path `-`.
 
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
 use crestline::io::{Format, write_atomically};
@@ -63,6 +63,25 @@ fn same_file(a: &Path, b: &Path) -> bool {
     #[cfg(not(unix))]
     {
         matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
+    }
+}
+
+/// `-o` and `--format` of the commands that write a mesh (`simplify`, `subdivide`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct MeshOutputArgs {
+    /// Output mesh, or `-` for standard output; the format follows the extension (.obj,
+    /// .ply, .off, .stl) unless --format is given.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Output format (needed for standard output).
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
+}
+
+impl MeshOutputArgs {
+    /// The format the mesh is written in ([`mesh_format`]).
+    pub fn format(&self) -> Result<Format> {
+        mesh_format(&self.output, self.format)
     }
 }
 

@@ -36,6 +36,107 @@ impl From<EstimatorArg> for Estimator {
     }
 }
 
+/// The curvature estimator and its options, shared by `extract` and `curvature`: each flag
+/// means the same in both, and flags of an estimator that does not run are refused.
+#[derive(Debug, Clone, clap::Args)]
+pub struct EstimatorArgs {
+    /// Curvature estimator (default: jet-fit; cubic-fit with --rings).
+    #[arg(long, value_enum)]
+    pub estimator: Option<EstimatorArg>,
+    /// Rings of YBS's cubic fit, 1 to 8 (the paper uses 1 to 4); selects the cubic-fit
+    /// estimator unless --estimator says otherwise.
+    #[arg(long, value_parser = super::extract::rings)]
+    pub rings: Option<usize>,
+    /// Radius of the jet fit's disc, in sample spacings, > 0 (estimator jet-fit only;
+    /// default 2.5).
+    #[arg(long, value_parser = super::extract::positive)]
+    pub radius: Option<f64>,
+    /// Degree of the jet fit, 3 or 4 (estimator jet-fit only; default 4).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(3..=4))]
+    pub degree: Option<u8>,
+    /// Do not grow the jet fit's radius with the measured noise level (estimator jet-fit
+    /// only).
+    #[arg(long)]
+    pub no_noise_adaptation: bool,
+    /// Weight of the neighbourhood in the principal directions of the shape operator, >= 0
+    /// (estimator shape-operator only; default 0.5; 0 gives the paper's operator, whose
+    /// directions are arbitrary on flat faces).
+    #[arg(long, value_name = "LAMBDA", value_parser = super::extract::non_negative)]
+    pub direction_support: Option<f64>,
+}
+
+impl EstimatorArgs {
+    /// The estimator that runs: --estimator, else the cubic fit with --rings, else `default`.
+    pub fn estimator(&self, default: Estimator) -> Estimator {
+        match (self.estimator, self.rings) {
+            (Some(e), _) => e.into(),
+            (None, Some(_)) => Estimator::CubicFit,
+            (None, None) => default,
+        }
+    }
+
+    /// The flags given for another estimator than the one that runs, each with why.
+    pub fn unused(&self, default: Estimator) -> Vec<String> {
+        let estimator = self.estimator(default);
+        let given = [
+            (self.radius.is_some(), "--radius", Estimator::JetFit),
+            (self.degree.is_some(), "--degree", Estimator::JetFit),
+            (
+                self.no_noise_adaptation,
+                "--no-noise-adaptation",
+                Estimator::JetFit,
+            ),
+            (self.rings.is_some(), "--rings", Estimator::CubicFit),
+            (
+                self.direction_support.is_some(),
+                "--direction-support",
+                Estimator::ShapeOperator,
+            ),
+        ];
+        given
+            .into_iter()
+            .filter(|&(given, _, needs)| given && estimator != needs)
+            .map(|(_, flag, needs)| {
+                format!(
+                    "{flag} (it applies to the {} estimator; this run uses {})",
+                    estimator_name(needs),
+                    estimator_name(estimator)
+                )
+            })
+            .collect()
+    }
+
+    /// `options` with the estimator and the flags given.
+    pub fn apply(&self, options: CurvatureOptions) -> CurvatureOptions {
+        let mut options = options.with_estimator(self.estimator(options.estimator));
+        if let Some(k) = self.rings {
+            options = options.with_rings(k);
+        }
+        if let Some(r) = self.radius {
+            options.jet_fit = options.jet_fit.with_radius(r);
+        }
+        if let Some(d) = self.degree {
+            options.jet_fit = options.jet_fit.with_degree(d.into());
+        }
+        if self.no_noise_adaptation {
+            options.jet_fit = options.jet_fit.with_adapt_to_noise(false);
+        }
+        if let Some(support) = self.direction_support {
+            options.shape_operator.direction_support = support;
+        }
+        options
+    }
+}
+
+/// The estimator's command-line name.
+pub fn estimator_name(e: Estimator) -> &'static str {
+    match e {
+        Estimator::ShapeOperator => "shape-operator",
+        Estimator::CubicFit => "cubic-fit",
+        Estimator::JetFit => "jet-fit",
+    }
+}
+
 /// Arguments of `crestline curvature`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -47,23 +148,8 @@ pub struct Args {
     /// or `-` for standard output.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// The estimator.
-    #[arg(long, value_enum, default_value = "jet-fit")]
-    pub estimator: EstimatorArg,
-    /// Rings of the cubic fit, 1 to 8 (estimator cubic-fit only) [default: 1].
-    #[arg(long, value_parser = super::extract::rings)]
-    pub rings: Option<usize>,
-    /// Radius of the jet fit's disc, in sample spacings, > 0 (estimator jet-fit only)
-    /// [default: 2.5].
-    #[arg(long, value_parser = super::extract::positive)]
-    pub radius: Option<f64>,
-    /// Degree of the jet fit, 3 or 4 (estimator jet-fit only) [default: 3].
-    #[arg(long, value_parser = clap::value_parser!(u8).range(3..=4))]
-    pub degree: Option<u8>,
-    /// Do not grow the jet fit's radius with the measured noise level (estimator jet-fit
-    /// only).
-    #[arg(long)]
-    pub no_noise_adaptation: bool,
+    #[command(flatten)]
+    pub estimator: EstimatorArgs,
     /// Sharp creases the estimation does not reach across (each side of a crease gets its
     /// own fit, as in `extract`; estimator jet-fit only): `auto` (default: edges above the gap in the histogram of
     /// dihedral angles; none on scans), `off`, or a dihedral angle in degrees.
@@ -153,10 +239,7 @@ pub fn run(args: Args) -> Result<()> {
             } else {
                 PlyEncoding::BinaryLittleEndian
             })
-            .comment(format!(
-                "crestline curvature ({:?}) of {name}",
-                args.estimator
-            ));
+            .comment(format!("crestline curvature ({estimator:?}) of {name}"));
         for (n, values) in &cols {
             let single: Vec<f32> = values.iter().map(|&x| x as f32).collect();
             writer = writer.property(VertexProperty::new(*n, single))?;
@@ -178,32 +261,22 @@ pub fn run(args: Args) -> Result<()> {
 
 /// The estimator's options from the arguments; flags of another estimator are errors.
 fn curvature_options(args: &Args) -> Result<CurvatureOptions> {
-    let estimator: Estimator = args.estimator.into();
-    let jet_fit_only = args.radius.is_some()
-        || args.degree.is_some()
-        || args.no_noise_adaptation
-        || args.creases.is_some();
-    if jet_fit_only && estimator != Estimator::JetFit {
+    let defaults = CurvatureOptions::default().with_estimator(Estimator::JetFit);
+    let estimator = args.estimator.estimator(defaults.estimator);
+    let mut unused = args.estimator.unused(defaults.estimator);
+    if args.creases.is_some() && estimator != Estimator::JetFit {
+        unused.push(format!(
+            "--creases (the estimation splits at creases with the jet-fit estimator only; this \
+             run uses {})",
+            estimator_name(estimator)
+        ));
+    }
+    if !unused.is_empty() {
         bail!(
-            "--radius, --degree, --no-noise-adaptation and --creases apply to --estimator \
-             jet-fit only"
+            "options that --estimator {} would not use: {}",
+            estimator_name(estimator),
+            unused.join("; ")
         );
     }
-    if args.rings.is_some() && estimator != Estimator::CubicFit {
-        bail!("--rings applies to --estimator cubic-fit only");
-    }
-    let mut options = CurvatureOptions::default().with_estimator(estimator);
-    if let Some(k) = args.rings {
-        options = options.with_rings(k);
-    }
-    if let Some(r) = args.radius {
-        options.jet_fit = options.jet_fit.with_radius(r);
-    }
-    if let Some(d) = args.degree {
-        options.jet_fit = options.jet_fit.with_degree(d.into());
-    }
-    options.jet_fit = options
-        .jet_fit
-        .with_adapt_to_noise(!args.no_noise_adaptation);
-    Ok(options)
+    Ok(args.estimator.apply(defaults))
 }

@@ -7,7 +7,7 @@ use anyhow::{Result, bail};
 use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::io::{Format, PlyEncoding, PlyWriter, VertexProperty};
 
-use crate::input::{MeshArgs, OrientArgs, is_dash, load_lines, prepare_mesh};
+use crate::input::{LinesArg, MeshArgs, OrientArgs, is_dash, load_lines, prepare_mesh};
 use crate::output::{display, refuse_overwriting_inputs, to_stdout};
 use crate::progress::{self, note};
 
@@ -23,10 +23,8 @@ pub struct Args {
     /// found.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Feature lines as `crestline extract` writes them (OBJ, PLY or JSON, by extension).
-    /// Without it they are extracted from the mesh with the default method.
-    #[arg(long, value_name = "LINES.{obj,ply,json}")]
-    pub lines: Option<PathBuf>,
+    #[command(flatten)]
+    pub lines: LinesArg,
     /// Propagate along edges only (plain Dijkstra, which overestimates) instead of also
     /// across triangles.
     #[arg(long)]
@@ -46,11 +44,11 @@ pub fn run(args: Args) -> Result<()> {
     }
     refuse_overwriting_inputs(
         &args.output,
-        &[args.input.mesh.as_deref(), args.lines.as_deref()],
+        &[args.input.mesh.as_deref(), args.lines.path()],
     )?;
     let (mesh, name) = progress::step("reading", || args.input.load())?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
-    let lines = progress::step("feature lines", || load_lines(args.lines.as_deref(), &mesh))?;
+    let lines = progress::step("feature lines", || load_lines(args.lines.path(), &mesh))?;
     let options = DistanceOptions::default().with_relax_across_triangles(!args.edges_only);
     let distance = progress::step("distance to the lines", || {
         feature_distance(&mesh, &lines, &options)
