@@ -4,7 +4,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
-use crestline::io::{Format, write_atomically};
+use crestline::io::{Format, PlyEncoding, write_atomically};
 
 use crate::input::{FormatArg, is_dash};
 
@@ -63,6 +63,25 @@ fn same_file(a: &Path, b: &Path) -> bool {
     #[cfg(not(unix))]
     {
         matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
+    }
+}
+
+/// `--ascii` of the commands that write PLY vertex properties (`curvature`, `distance`).
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct PlyEncodingArg {
+    /// Write PLY as ascii instead of binary.
+    #[arg(long)]
+    pub ascii: bool,
+}
+
+impl PlyEncodingArg {
+    /// The PLY encoding asked for (binary little-endian by default).
+    pub fn encoding(self) -> PlyEncoding {
+        if self.ascii {
+            PlyEncoding::Ascii
+        } else {
+            PlyEncoding::BinaryLittleEndian
+        }
     }
 }
 

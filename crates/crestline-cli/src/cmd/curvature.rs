@@ -7,12 +7,14 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use clap::ValueEnum;
 use crestline::curvature::{Curvature, CurvatureOptions, Estimator, estimate_split};
-use crestline::io::{PlyEncoding, PlyWriter, VertexProperty};
+use crestline::io::{PlyWriter, VertexProperty};
 use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
 use crate::input::{MeshArgs, OrientArgs, is_dash, prepare_mesh};
-use crate::output::{display, refuse_overwriting_inputs, to_path_or_stdout, to_stdout};
+use crate::output::{
+    PlyEncodingArg, display, refuse_overwriting_inputs, to_path_or_stdout, to_stdout,
+};
 use crate::progress::{self, note};
 
 /// The estimator.
@@ -161,9 +163,8 @@ pub struct Args {
     /// Also write the mesh saliency (`saliency`) and `curv` (Mao et al.).
     #[arg(long)]
     pub saliency: bool,
-    /// Write PLY as ascii instead of binary.
-    #[arg(long)]
-    pub ascii: bool,
+    #[command(flatten)]
+    pub ply: PlyEncodingArg,
 }
 
 /// Column names, in output order, with their values.
@@ -234,11 +235,7 @@ pub fn run(args: Args) -> Result<()> {
         to_path_or_stdout(&args.output, write_csv)?;
     } else {
         let mut writer = PlyWriter::new(&mesh)
-            .encoding(if args.ascii {
-                PlyEncoding::Ascii
-            } else {
-                PlyEncoding::BinaryLittleEndian
-            })
+            .encoding(args.ply.encoding())
             .comment(format!("crestline curvature ({estimator:?}) of {name}"));
         for (n, values) in &cols {
             let single: Vec<f32> = values.iter().map(|&x| x as f32).collect();

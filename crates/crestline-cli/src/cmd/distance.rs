@@ -5,10 +5,10 @@ use std::path::PathBuf;
 
 use anyhow::{Result, bail};
 use crestline::distance::{DistanceOptions, feature_distance};
-use crestline::io::{Format, PlyEncoding, PlyWriter, VertexProperty};
+use crestline::io::{Format, PlyWriter, VertexProperty};
 
 use crate::input::{LinesArg, MeshArgs, OrientArgs, is_dash, load_lines, prepare_mesh};
-use crate::output::{display, refuse_overwriting_inputs, to_stdout};
+use crate::output::{PlyEncodingArg, display, refuse_overwriting_inputs, to_stdout};
 use crate::progress::{self, note};
 
 /// Arguments of `crestline distance`.
@@ -29,9 +29,8 @@ pub struct Args {
     /// across triangles.
     #[arg(long)]
     pub edges_only: bool,
-    /// Write ascii PLY instead of binary.
-    #[arg(long)]
-    pub ascii: bool,
+    #[command(flatten)]
+    pub ply: PlyEncodingArg,
 }
 
 /// Runs the subcommand.
@@ -60,13 +59,8 @@ pub fn run(args: Args) -> Result<()> {
         .iter()
         .map(|&d| if d.is_finite() { d } else { distance.max })
         .collect();
-    let encoding = if args.ascii {
-        PlyEncoding::Ascii
-    } else {
-        PlyEncoding::BinaryLittleEndian
-    };
     let writer = PlyWriter::new(&mesh)
-        .encoding(encoding)
+        .encoding(args.ply.encoding())
         .comment(format!("feature_distance to {} lines", lines.lines.len()))
         .property(VertexProperty::new("feature_distance", values))?;
     if is_dash(&args.output) {
