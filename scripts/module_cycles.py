@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Import circles between the library's modules.
 
-Reads the `crate::` paths (in `use` lines and inline) of every file under
+Reads the `crate::` and `super::` paths (in `use` lines and inline) of every file under
 `crates/crestline/src`, test code left out (`#[cfg(test)]` modules and `tests.rs` files), and
 builds the dependency graph level by level: at each level of the module tree, the siblings
 under one parent are the nodes (a sibling stands for its whole subtree), and A -> B when a file
@@ -36,18 +36,28 @@ def code_without_tests_and_comments(text: str) -> str:
     return text
 
 
-def crate_paths(code: str):
-    """Every path that starts at `crate::`, `use` groups expanded one level."""
-    for m in re.finditer(r"\bcrate::((?:\w+::)*)(\{[^;]*?\}|\w+)", code, re.S):
-        prefix = m.group(1)
-        tail = m.group(2)
+def crate_paths(code: str, module: tuple):
+    """Every path that starts at `crate::` or `super::` (resolved from `module`), as a path
+    from the crate root, `use` groups expanded one level."""
+    pattern = r"\b(crate::|(?:super::)+)((?:\w+::)*)(\{[^;]*?\}|\w+)"
+    for m in re.finditer(pattern, code, re.S):
+        start, prefix, tail = m.group(1), m.group(2), m.group(3)
+        if start == "crate::":
+            root = []
+        else:
+            ups = start.count("super::")
+            if ups > len(module):
+                continue
+            root = list(module[: len(module) - ups])
+        base = "::".join(root + [prefix.rstrip(":")] if prefix else root)
+        base = base + "::" if base else ""
         if tail.startswith("{"):
             for item in re.split(r",(?![^{]*\})", tail[1:-1]):
                 item = item.strip()
                 if item:
-                    yield (prefix + item).split("::")
+                    yield (base + item).split("::")
         else:
-            yield (prefix + tail).split("::")
+            yield (base + tail).split("::")
 
 
 def main() -> int:
@@ -58,7 +68,7 @@ def main() -> int:
     edges = set()
     for f in files:
         user = module_of(src, f)
-        for path in crate_paths(code_without_tests_and_comments(f.read_text())):
+        for path in crate_paths(code_without_tests_and_comments(f.read_text()), user):
             path = [p.strip("{} \n") for p in path if p.strip("{} \n")]
             target = ()
             for i in range(1, len(path) + 1):
