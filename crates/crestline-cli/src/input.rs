@@ -127,6 +127,30 @@ impl MeshArgs {
     }
 }
 
+/// The mesh of a command that estimates curvature (`curvature`, `distance`, `simplify`): the
+/// file, and whether to keep its winding.
+#[derive(Debug, Clone, clap::Args)]
+pub struct OrientedMeshArgs {
+    #[command(flatten)]
+    pub mesh: MeshArgs,
+    #[command(flatten)]
+    pub orient: OrientArgs,
+}
+
+impl OrientedMeshArgs {
+    /// The mesh file given, if any.
+    pub fn path(&self) -> Option<&Path> {
+        self.mesh.mesh.as_deref()
+    }
+
+    /// Reads the mesh (with a spinner) and prepares it ([`prepare_mesh`]): oriented outward
+    /// unless `--keep-orientation`.
+    pub fn load(&self) -> Result<(TriMesh, String)> {
+        let (mesh, name) = crate::progress::step("reading", || self.mesh.load())?;
+        Ok((prepare_mesh(mesh, &name, self.orient)?, name))
+    }
+}
+
 /// The name standard input goes by in messages.
 pub const STDIN_NAME: &str = "<stdin>";
 

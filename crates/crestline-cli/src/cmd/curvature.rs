@@ -11,7 +11,7 @@ use crestline::io::{PlyWriter, VertexProperty};
 use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
-use crate::input::{MeshArgs, OrientArgs, is_dash, prepare_mesh};
+use crate::input::{OrientedMeshArgs, is_dash};
 use crate::output::{
     PlyEncodingArg, display, refuse_overwriting_inputs, to_path_or_stdout, to_stdout,
 };
@@ -143,9 +143,7 @@ pub fn estimator_name(e: Estimator) -> &'static str {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    pub input: MeshArgs,
-    #[command(flatten)]
-    pub orient: OrientArgs,
+    pub input: OrientedMeshArgs,
     /// Output: a PLY with the mesh and the fields as vertex properties (CSV with `--csv`),
     /// or `-` for standard output.
     #[arg(short, long)]
@@ -188,9 +186,8 @@ fn columns(c: &Curvature) -> Vec<(&'static str, Vec<f64>)> {
 pub fn run(args: Args) -> Result<()> {
     let options = curvature_options(&args)?;
     let estimator = options.estimator;
-    refuse_overwriting_inputs(&args.output, &[args.input.mesh.as_deref()])?;
-    let (mesh, name) = progress::step("reading", || args.input.load())?;
-    let mesh = prepare_mesh(mesh, &name, args.orient)?;
+    refuse_overwriting_inputs(&args.output, &[args.input.path()])?;
+    let (mesh, name) = args.input.load()?;
     // The papers' estimators read one star or ring and do not split at creases.
     let angle = match estimator {
         Estimator::JetFit => args.creases.unwrap_or_default(),

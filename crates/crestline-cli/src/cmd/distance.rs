@@ -7,7 +7,7 @@ use anyhow::{Result, bail};
 use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::io::{Format, PlyWriter, VertexProperty};
 
-use crate::input::{LinesArg, MeshArgs, OrientArgs, is_dash, load_lines, prepare_mesh};
+use crate::input::{LinesArg, OrientedMeshArgs, is_dash, load_lines};
 use crate::output::{PlyEncodingArg, display, refuse_overwriting_inputs, to_stdout};
 use crate::progress::{self, note};
 
@@ -15,9 +15,7 @@ use crate::progress::{self, note};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    pub input: MeshArgs,
-    #[command(flatten)]
-    pub orient: OrientArgs,
+    pub input: OrientedMeshArgs,
     /// Output: the mesh as PLY with the vertex property `feature_distance`, or `-` for
     /// standard output. Vertices no line reaches (other components) get the largest distance
     /// found.
@@ -41,12 +39,8 @@ pub fn run(args: Args) -> Result<()> {
             args.output.display()
         );
     }
-    refuse_overwriting_inputs(
-        &args.output,
-        &[args.input.mesh.as_deref(), args.lines.path()],
-    )?;
-    let (mesh, name) = progress::step("reading", || args.input.load())?;
-    let mesh = prepare_mesh(mesh, &name, args.orient)?;
+    refuse_overwriting_inputs(&args.output, &[args.input.path(), args.lines.path()])?;
+    let (mesh, name) = args.input.load()?;
     let lines = progress::step("feature lines", || load_lines(args.lines.path(), &mesh))?;
     let options = DistanceOptions::default().with_relax_across_triangles(!args.edges_only);
     let distance = progress::step("distance to the lines", || {

@@ -5,7 +5,7 @@ use crestline::io::{WriteOptions, write_mesh, write_mesh_to};
 use crestline::lines::FeatureLines;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
 
-use crate::input::{LinesArg, MeshArgs, OrientArgs, is_dash, load_lines, prepare_mesh};
+use crate::input::{LinesArg, OrientedMeshArgs, is_dash, load_lines};
 use crate::output::{MeshOutputArgs, display, to_stdout};
 use crate::progress::{self, note};
 
@@ -13,9 +13,7 @@ use crate::progress::{self, note};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    pub input: MeshArgs,
-    #[command(flatten)]
-    pub orient: OrientArgs,
+    pub input: OrientedMeshArgs,
     #[command(flatten)]
     pub out: MeshOutputArgs,
     /// Keep this fraction of the triangles, in (0, 1]. Default: 0.1.
@@ -57,8 +55,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(eps) = args.eps {
         options.eps = eps;
     }
-    let (mesh, name) = progress::step("reading", || args.input.load())?;
-    let mesh = prepare_mesh(mesh, &name, args.orient)?;
+    let (mesh, name) = args.input.load()?;
     let lines = if options.eta == 0.0 && args.lines.path().is_none() {
         FeatureLines::default()
     } else {
