@@ -9,8 +9,10 @@ use clap::ValueEnum;
 use crestline::TriMesh;
 use crestline::extract::{ExtractOptions, extract};
 use crestline::io::Format;
+use crestline::io::mask::read_diffusion_factors;
 use crestline::lines::FeatureLines;
 use crestline::mesh::{EdgeKind, VertexKind};
+use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 
 /// The built-in example: the fandisk CAD part (see `data/README.md`).
 const BUILT_IN_EXAMPLE: &[u8] = include_bytes!("../data/fandisk.obj");
@@ -125,6 +127,30 @@ impl MeshArgs {
     }
 }
 
+/// The mesh of a command that estimates curvature (`curvature`, `distance`, `simplify`): the
+/// file, and whether to keep its winding.
+#[derive(Debug, Clone, clap::Args)]
+pub struct OrientedMeshArgs {
+    #[command(flatten)]
+    pub mesh: MeshArgs,
+    #[command(flatten)]
+    pub orient: OrientArgs,
+}
+
+impl OrientedMeshArgs {
+    /// The mesh file given, if any.
+    pub fn path(&self) -> Option<&Path> {
+        self.mesh.mesh.as_deref()
+    }
+
+    /// Reads the mesh (with a spinner) and prepares it ([`prepare_mesh`]): oriented outward
+    /// unless `--keep-orientation`.
+    pub fn load(&self) -> Result<(TriMesh, String)> {
+        let (mesh, name) = crate::progress::step("reading", || self.mesh.load())?;
+        Ok((prepare_mesh(mesh, &name, self.orient)?, name))
+    }
+}
+
 /// The name standard input goes by in messages.
 pub const STDIN_NAME: &str = "<stdin>";
 
@@ -219,14 +245,36 @@ fn parse_stdin(bytes: &[u8], format: Option<FormatArg>, why: &str) -> Result<(Tr
     Ok((mesh, STDIN_NAME.to_string()))
 }
 
+/// The per-vertex diffusion factors of the extremality smoothing: `--mask`'s file (one
+/// number per vertex) scaled inside the `--mask-sphere` / `--mask-box` `regions`
+/// ([`DiffusionMask::apply`]); `None` when neither is given.
+pub fn diffusion_factors(
+    file: Option<&Path>,
+    regions: Vec<MaskRegion>,
+    mesh: &TriMesh,
+) -> Result<Option<Vec<f64>>> {
+    let factors = file
+        .map(|path| read_diffusion_factors(path, mesh.num_vertices()))
+        .transpose()?;
+    Ok(DiffusionMask { regions }.apply(mesh, factors))
+}
+
 /// `--lines`: feature lines as `crestline extract` writes them (OBJ, PLY or JSON, by
-/// extension).
+/// extension), for the commands they guide.
 #[derive(Debug, Clone, clap::Args)]
 pub struct LinesArg {
     /// Feature lines as `crestline extract` writes them: OBJ, PLY or JSON, chosen by the
-    /// extension; kinds and strengths are read back.
+    /// extension; kinds and strengths are read back. Without it they are extracted from the
+    /// mesh with the default method.
     #[arg(long, value_name = "LINES.{obj,ply,json}")]
     pub lines: Option<PathBuf>,
+}
+
+impl LinesArg {
+    /// The file given, if any.
+    pub fn path(&self) -> Option<&Path> {
+        self.lines.as_deref()
+    }
 }
 
 /// Reads feature lines written by `crestline extract` (OBJ, PLY or JSON, by extension).
@@ -248,7 +296,7 @@ pub fn load_lines(path: Option<&Path>, mesh: &TriMesh) -> Result<FeatureLines> {
             };
             crate::progress::note!(
                 "no --lines given: extracting them with the default method ({:?})",
-                options.method
+                options.method()
             );
             Ok(extract(mesh, &options)
                 .context("cannot extract the lines")?

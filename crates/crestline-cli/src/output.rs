@@ -1,10 +1,10 @@
 //! Where results go: a file, or standard output for the path `-`.
 
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
-use crestline::io::{Format, write_atomically};
+use crestline::io::{Format, PlyEncoding, write_atomically};
 
 use crate::input::{FormatArg, is_dash};
 
@@ -63,6 +63,44 @@ fn same_file(a: &Path, b: &Path) -> bool {
     #[cfg(not(unix))]
     {
         matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
+    }
+}
+
+/// `--ascii` of the commands that write PLY vertex properties (`curvature`, `distance`).
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct PlyEncodingArg {
+    /// Write PLY as ascii instead of binary.
+    #[arg(long)]
+    pub ascii: bool,
+}
+
+impl PlyEncodingArg {
+    /// The PLY encoding asked for (binary little-endian by default).
+    pub fn encoding(self) -> PlyEncoding {
+        if self.ascii {
+            PlyEncoding::Ascii
+        } else {
+            PlyEncoding::BinaryLittleEndian
+        }
+    }
+}
+
+/// `-o` and `--format` of the commands that write a mesh (`simplify`, `subdivide`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct MeshOutputArgs {
+    /// Output mesh, or `-` for standard output; the format follows the extension (.obj,
+    /// .ply, .off, .stl) unless --format is given.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Output format (needed for standard output).
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
+}
+
+impl MeshOutputArgs {
+    /// The format the mesh is written in ([`mesh_format`]).
+    pub fn format(&self) -> Result<Format> {
+        mesh_format(&self.output, self.format)
     }
 }
 

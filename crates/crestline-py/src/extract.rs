@@ -1,9 +1,10 @@
 //! `crestline.extract`: the command-line tool's `extract`, on arrays.
 
 use crestline::curvature::Estimator;
-use crestline::extract::{ExtractOptions, Method, extract as run_extract};
+use crestline::extract::{ExtractOptions, Method, Pipeline, extract as run_extract};
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 use crestline::smoothing::surface::SurfaceSmoothing;
+use crestline::threshold::Threshold;
 use crestline::{TriMesh, Vec3};
 use pyo3::prelude::*;
 
@@ -93,10 +94,8 @@ pub fn extract(
     shape_operator.direction_support =
         direction_support.unwrap_or(shape_operator.direction_support);
     apply_threshold(&mut options, threshold)?;
-    options.filter.min_length = min_length.unwrap_or(options.filter.min_length);
-    if let Some(fraction) = fair {
-        options.fairing.tolerance = fraction * mesh.bounding_box().diagonal();
-    }
+    options.min_length = min_length.unwrap_or(options.min_length);
+    options.fairing.tolerance = fair.unwrap_or(options.fairing.tolerance);
     if let Some(steps) = pre_smooth {
         options.pre_smoothing = SurfaceSmoothing {
             steps,
@@ -113,8 +112,8 @@ pub fn extract(
         options.curvature.estimator = choose("estimator", name, &ESTIMATORS)?;
     }
     options.curvature.jet_fit.radius = radius.unwrap_or(options.curvature.jet_fit.radius);
-    if no_gaps {
-        options.gaps = None;
+    if let (true, Pipeline::Ybs(ybs)) = (no_gaps, &mut options.pipeline) {
+        ybs.gaps = None;
     }
     options.smoothing.diffusion = diffusion(
         &mesh,
@@ -156,15 +155,17 @@ fn apply_threshold(
                 "threshold takes a number or 'auto', got '{text}'"
             )));
         }
-        options.auto_threshold = true;
+        options
+            .pipeline
+            .set_threshold(options.pipeline.automatic_threshold());
         return Ok(());
     }
-    options.filter.threshold = threshold.extract().map_err(|_| {
+    let value = threshold.extract().map_err(|_| {
         invalid(format!(
             "threshold takes a number or 'auto', got {threshold}"
         ))
     })?;
-    options.auto_threshold = false;
+    options.pipeline.set_threshold(Threshold::Fixed(value));
     Ok(())
 }
 
@@ -195,12 +196,5 @@ fn diffusion(
     let regions = DiffusionMask {
         regions: spheres.chain(boxes).collect(),
     };
-    if regions.regions.is_empty() {
-        return Ok(factors);
-    }
-    let scale = regions.factors(mesh);
-    Ok(Some(match factors {
-        Some(f) => f.iter().zip(&scale).map(|(a, b)| a * b).collect(),
-        None => scale,
-    }))
+    Ok(regions.apply(mesh, factors))
 }

@@ -37,36 +37,34 @@ fn load(name: &str) -> Vec<u8> {
     }
 }
 
-fn parse(c: &mut Criterion) {
-    let mut group = c.benchmark_group("parse");
+/// One benchmark per shared file in `group`, running `f` on the file's bytes.
+fn bench_files<T>(
+    c: &mut Criterion,
+    group: &str,
+    samples: usize,
+    f: impl Fn(&[u8], Format, &Path) -> T,
+) {
+    let mut group = c.benchmark_group(group);
     group
-        .sample_size(20)
+        .sample_size(samples)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2));
     for (name, format) in FILES {
         let bytes = load(name);
         group.throughput(Throughput::Bytes(bytes.len() as u64));
         group.bench_function(name, |b| {
-            b.iter(|| parse_mesh_bytes(black_box(&bytes), format, Path::new(name)))
+            b.iter(|| f(black_box(&bytes), format, Path::new(name)))
         });
     }
     group.finish();
 }
 
+fn parse(c: &mut Criterion) {
+    bench_files(c, "parse", 20, parse_mesh_bytes);
+}
+
 fn read(c: &mut Criterion) {
-    let mut group = c.benchmark_group("read");
-    group
-        .sample_size(10)
-        .warm_up_time(Duration::from_millis(500))
-        .measurement_time(Duration::from_secs(2));
-    for (name, format) in FILES {
-        let bytes = load(name);
-        group.throughput(Throughput::Bytes(bytes.len() as u64));
-        group.bench_function(name, |b| {
-            b.iter(|| read_mesh_bytes(black_box(&bytes), format, Path::new(name)))
-        });
-    }
-    group.finish();
+    bench_files(c, "read", 10, read_mesh_bytes);
 }
 
 criterion_group!(benches, parse, read);

@@ -157,7 +157,7 @@ fn cases() -> Vec<Case> {
 
 /// HPW Table 2: singular triangles of the raw and the smoothed bunny.
 fn singular_triangles() -> crestline::Result<()> {
-    use crestline::extremality::triangle_regularity;
+    use crestline::curvature::extremality::triangle_regularity;
     use crestline::smoothing::surface::{SurfaceSmoothing, smooth_surface};
     let dir =
         std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");

@@ -62,7 +62,6 @@ pub mod curvature;
 pub mod distance;
 pub mod error;
 pub mod extract;
-pub mod extremality;
 pub mod io;
 pub mod lines;
 pub mod mesh;

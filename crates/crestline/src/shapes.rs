@@ -21,6 +21,31 @@ fn build(positions: Vec<Vec3>, faces: Vec<[u32; 3]>) -> TriMesh {
     }
 }
 
+/// The regular octahedron with vertices ±e_x, ±e_y, ±e_z (in that order), wound outward: the
+/// smallest closed mesh whose shape operator is known exactly (1 in every direction at each
+/// vertex).
+pub fn octahedron() -> TriMesh {
+    let positions = [
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    let faces = vec![
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    build(positions.into_iter().map(Vec3::from).collect(), faces)
+}
+
 /// An icosahedron subdivided `subdivisions` times, projected on the sphere of `radius`
 /// (20 · 4^s faces).
 pub fn icosphere(radius: f64, subdivisions: u32) -> TriMesh {

@@ -83,6 +83,74 @@ impl KneeSearch {
     }
 }
 
+/// A threshold on values where larger is stronger (line strengths, saliency): fixed, or
+/// chosen by the knee search.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Threshold {
+    /// Keep the values at least this.
+    Fixed(f64),
+    /// The knee of the sorted values at or above `floor` ([`seek_threshold`] with `search`),
+    /// never below `floor`. The floor keeps shapes without features empty: among their weak
+    /// values a knee is easily found.
+    Knee {
+        /// The values searched are those at least this; the threshold is never below it.
+        floor: f64,
+        /// The knee search.
+        search: KneeSearch,
+    },
+}
+
+impl Threshold {
+    /// True for a knee search.
+    pub fn is_auto(&self) -> bool {
+        matches!(self, Threshold::Knee { .. })
+    }
+
+    /// The fixed value, or the knee search's floor.
+    pub fn floor(&self) -> f64 {
+        match *self {
+            Threshold::Fixed(t) => t,
+            Threshold::Knee { floor, .. } => floor,
+        }
+    }
+}
+
+/// What [`choose_threshold`] chose.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChosenThreshold {
+    /// The threshold.
+    pub value: f64,
+    /// True when it is the knee of the values (false when fixed, or when the values had no
+    /// knee).
+    pub from_knee: bool,
+}
+
+/// The automatic threshold step: the threshold that `threshold` gives on `values`. A fixed
+/// threshold is itself; a knee search gives the knee of the values at or above its floor,
+/// raised to the floor, or `no_knee` when they have none (the line pipelines keep the floor,
+/// the saliency method keeps no point: `f64::INFINITY`).
+pub fn choose_threshold(values: &[f64], threshold: &Threshold, no_knee: f64) -> ChosenThreshold {
+    match *threshold {
+        Threshold::Fixed(value) => ChosenThreshold {
+            value,
+            from_knee: false,
+        },
+        Threshold::Knee { floor, search } => {
+            let candidates: Vec<f64> = values.iter().copied().filter(|&t| t >= floor).collect();
+            match seek_threshold(&candidates, &search) {
+                Some(knee) => ChosenThreshold {
+                    value: floor.max(knee),
+                    from_knee: true,
+                },
+                None => ChosenThreshold {
+                    value: no_knee,
+                    from_knee: false,
+                },
+            }
+        }
+    }
+}
+
 /// The threshold at the knee of the sorted `values`, or `None` when the curve has no knee.
 /// Values above the threshold are the salient ones. Non-finite values (and, on the log
 /// scale, values `<= 0`) are ignored; fewer than 8 values have no knee.
@@ -224,5 +292,37 @@ mod tests {
         let t = seek_threshold(&v, &KneeSearch::for_strengths()).unwrap();
         assert!((8.0..100.0).contains(&t), "threshold {t}");
         assert_eq!(v.iter().filter(|&&x| x > t).count(), 10);
+    }
+
+    #[test]
+    fn choose_threshold_keeps_a_fixed_one_and_raises_a_knee_to_its_floor() {
+        let mut v: Vec<f64> = (0..40).map(|i| 10f64.powf(i as f64 / 40.0)).collect();
+        v.extend((0..10).map(|i| 100.0 * 10f64.powf(i as f64 / 10.0)));
+        let fixed = choose_threshold(&v, &Threshold::Fixed(3.0), 0.0);
+        assert_eq!((fixed.value, fixed.from_knee), (3.0, false));
+        let search = KneeSearch::for_strengths();
+        let knee = choose_threshold(&v, &Threshold::Knee { floor: 0.5, search }, 0.5);
+        assert!(
+            knee.from_knee && (8.0..100.0).contains(&knee.value),
+            "{knee:?}"
+        );
+        // Above a floor among the strong values the knee is raised to the floor or beyond.
+        let high = choose_threshold(
+            &v,
+            &Threshold::Knee {
+                floor: 50.0,
+                search,
+            },
+            50.0,
+        );
+        assert!(high.value >= 50.0, "{high:?}");
+        // No knee: the value given for that case.
+        let flat = vec![1.0; 100];
+        let none = choose_threshold(
+            &flat,
+            &Threshold::Knee { floor: 0.0, search },
+            f64::INFINITY,
+        );
+        assert_eq!((none.value, none.from_knee), (f64::INFINITY, false));
     }
 }

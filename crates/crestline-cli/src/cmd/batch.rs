@@ -11,8 +11,10 @@ use crestline::io::lines::write_lines;
 use crestline::io::{Format, PlyEncoding};
 use rayon::prelude::*;
 
-use super::extract::{Args, IoTimes, StatsFormat, default_output, lines_format, options_from_args};
-use crate::input::{is_dash, load_mesh, prepare_mesh};
+use super::extract::{
+    Args, IoTimes, StatsFormat, default_output, lines_format, mask_regions, options_from_args,
+};
+use crate::input::{diffusion_factors, is_dash, load_mesh, prepare_mesh};
 use crate::progress;
 
 /// What became of one mesh.
@@ -136,7 +138,8 @@ fn extract_one(input: &Path, output: &Path, args: &Args) -> Result<serde_json::V
     let (mesh, name) = load_mesh(Some(input), args.input_format)?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let load = clock.elapsed();
-    let options = options_from_args(args, &mesh)?;
+    let mut options = options_from_args(args)?;
+    options.smoothing.diffusion = diffusion_factors(None, mask_regions(args), &mesh)?;
     let extraction = crestline::extract::extract(&mesh, &options)?;
     let clock = Instant::now();
     write_lines(

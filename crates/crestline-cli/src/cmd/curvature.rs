@@ -7,12 +7,14 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use clap::ValueEnum;
 use crestline::curvature::{Curvature, CurvatureOptions, Estimator, estimate_split};
-use crestline::io::{PlyEncoding, PlyWriter, VertexProperty};
+use crestline::io::{PlyWriter, VertexProperty};
 use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
-use crate::input::{MeshArgs, OrientArgs, is_dash, prepare_mesh};
-use crate::output::{display, refuse_overwriting_inputs, to_path_or_stdout, to_stdout};
+use crate::input::{OrientedMeshArgs, is_dash};
+use crate::output::{
+    PlyEncodingArg, display, refuse_overwriting_inputs, to_path_or_stdout, to_stdout,
+};
 use crate::progress::{self, note};
 
 /// The estimator.
@@ -36,34 +38,118 @@ impl From<EstimatorArg> for Estimator {
     }
 }
 
-/// Arguments of `crestline curvature`.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    #[command(flatten)]
-    pub input: MeshArgs,
-    #[command(flatten)]
-    pub orient: OrientArgs,
-    /// Output: a PLY with the mesh and the fields as vertex properties (CSV with `--csv`),
-    /// or `-` for standard output.
-    #[arg(short, long)]
-    pub output: PathBuf,
-    /// The estimator.
-    #[arg(long, value_enum, default_value = "jet-fit")]
-    pub estimator: EstimatorArg,
-    /// Rings of the cubic fit, 1 to 8 (estimator cubic-fit only) [default: 1].
+/// The curvature estimator and its options, shared by `extract` and `curvature`: each flag
+/// means the same in both, and flags of an estimator that does not run are refused.
+#[derive(Debug, Clone, clap::Args)]
+pub struct EstimatorArgs {
+    /// Curvature estimator (default: jet-fit; cubic-fit with --rings).
+    #[arg(long, value_enum)]
+    pub estimator: Option<EstimatorArg>,
+    /// Rings of YBS's cubic fit, 1 to 8 (the paper uses 1 to 4); selects the cubic-fit
+    /// estimator unless --estimator says otherwise.
     #[arg(long, value_parser = super::extract::rings)]
     pub rings: Option<usize>,
-    /// Radius of the jet fit's disc, in sample spacings, > 0 (estimator jet-fit only)
-    /// [default: 2.5].
+    /// Radius of the jet fit's disc, in sample spacings, > 0 (estimator jet-fit only;
+    /// default 2.5).
     #[arg(long, value_parser = super::extract::positive)]
     pub radius: Option<f64>,
-    /// Degree of the jet fit, 3 or 4 (estimator jet-fit only) [default: 3].
+    /// Degree of the jet fit, 3 or 4 (estimator jet-fit only; default 4).
     #[arg(long, value_parser = clap::value_parser!(u8).range(3..=4))]
     pub degree: Option<u8>,
     /// Do not grow the jet fit's radius with the measured noise level (estimator jet-fit
     /// only).
     #[arg(long)]
     pub no_noise_adaptation: bool,
+    /// Weight of the neighbourhood in the principal directions of the shape operator, >= 0
+    /// (estimator shape-operator only; default 0.5; 0 gives the paper's operator, whose
+    /// directions are arbitrary on flat faces).
+    #[arg(long, value_name = "LAMBDA", value_parser = super::extract::non_negative)]
+    pub direction_support: Option<f64>,
+}
+
+impl EstimatorArgs {
+    /// The estimator that runs: --estimator, else the cubic fit with --rings, else `default`.
+    pub fn estimator(&self, default: Estimator) -> Estimator {
+        match (self.estimator, self.rings) {
+            (Some(e), _) => e.into(),
+            (None, Some(_)) => Estimator::CubicFit,
+            (None, None) => default,
+        }
+    }
+
+    /// The flags given for another estimator than the one that runs, each with why.
+    pub fn unused(&self, default: Estimator) -> Vec<String> {
+        let estimator = self.estimator(default);
+        let given = [
+            (self.radius.is_some(), "--radius", Estimator::JetFit),
+            (self.degree.is_some(), "--degree", Estimator::JetFit),
+            (
+                self.no_noise_adaptation,
+                "--no-noise-adaptation",
+                Estimator::JetFit,
+            ),
+            (self.rings.is_some(), "--rings", Estimator::CubicFit),
+            (
+                self.direction_support.is_some(),
+                "--direction-support",
+                Estimator::ShapeOperator,
+            ),
+        ];
+        given
+            .into_iter()
+            .filter(|&(given, _, needs)| given && estimator != needs)
+            .map(|(_, flag, needs)| {
+                format!(
+                    "{flag} (it applies to the {} estimator; this run uses {})",
+                    estimator_name(needs),
+                    estimator_name(estimator)
+                )
+            })
+            .collect()
+    }
+
+    /// `options` with the estimator and the flags given.
+    pub fn apply(&self, options: CurvatureOptions) -> CurvatureOptions {
+        let mut options = options.with_estimator(self.estimator(options.estimator));
+        if let Some(k) = self.rings {
+            options = options.with_rings(k);
+        }
+        if let Some(r) = self.radius {
+            options.jet_fit = options.jet_fit.with_radius(r);
+        }
+        if let Some(d) = self.degree {
+            options.jet_fit = options.jet_fit.with_degree(d.into());
+        }
+        if self.no_noise_adaptation {
+            options.jet_fit = options.jet_fit.with_adapt_to_noise(false);
+        }
+        if let Some(support) = self.direction_support {
+            options.shape_operator.direction_support = support;
+        }
+        options
+    }
+}
+
+/// The estimator's command-line name.
+pub fn estimator_name(e: Estimator) -> &'static str {
+    match e {
+        Estimator::ShapeOperator => "shape-operator",
+        Estimator::CubicFit => "cubic-fit",
+        Estimator::JetFit => "jet-fit",
+    }
+}
+
+/// Arguments of `crestline curvature`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub input: OrientedMeshArgs,
+    /// Output: a PLY with the mesh and the fields as vertex properties (CSV with `--csv`),
+    /// or `-` for standard output.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub estimator: EstimatorArgs,
     /// Sharp creases the estimation does not reach across (each side of a crease gets its
     /// own fit, as in `extract`; estimator jet-fit only): `auto` (default: edges above the gap in the histogram of
     /// dihedral angles; none on scans), `off`, or a dihedral angle in degrees.
@@ -75,9 +161,8 @@ pub struct Args {
     /// Also write the mesh saliency (`saliency`) and `curv` (Mao et al.).
     #[arg(long)]
     pub saliency: bool,
-    /// Write PLY as ascii instead of binary.
-    #[arg(long)]
-    pub ascii: bool,
+    #[command(flatten)]
+    pub ply: PlyEncodingArg,
 }
 
 /// Column names, in output order, with their values.
@@ -101,9 +186,8 @@ fn columns(c: &Curvature) -> Vec<(&'static str, Vec<f64>)> {
 pub fn run(args: Args) -> Result<()> {
     let options = curvature_options(&args)?;
     let estimator = options.estimator;
-    refuse_overwriting_inputs(&args.output, &[args.input.mesh.as_deref()])?;
-    let (mesh, name) = progress::step("reading", || args.input.load())?;
-    let mesh = prepare_mesh(mesh, &name, args.orient)?;
+    refuse_overwriting_inputs(&args.output, &[args.input.path()])?;
+    let (mesh, name) = args.input.load()?;
     // The papers' estimators read one star or ring and do not split at creases.
     let angle = match estimator {
         Estimator::JetFit => args.creases.unwrap_or_default(),
@@ -148,15 +232,8 @@ pub fn run(args: Args) -> Result<()> {
         to_path_or_stdout(&args.output, write_csv)?;
     } else {
         let mut writer = PlyWriter::new(&mesh)
-            .encoding(if args.ascii {
-                PlyEncoding::Ascii
-            } else {
-                PlyEncoding::BinaryLittleEndian
-            })
-            .comment(format!(
-                "crestline curvature ({:?}) of {name}",
-                args.estimator
-            ));
+            .encoding(args.ply.encoding())
+            .comment(format!("crestline curvature ({estimator:?}) of {name}"));
         for (n, values) in &cols {
             let single: Vec<f32> = values.iter().map(|&x| x as f32).collect();
             writer = writer.property(VertexProperty::new(*n, single))?;
@@ -178,32 +255,22 @@ pub fn run(args: Args) -> Result<()> {
 
 /// The estimator's options from the arguments; flags of another estimator are errors.
 fn curvature_options(args: &Args) -> Result<CurvatureOptions> {
-    let estimator: Estimator = args.estimator.into();
-    let jet_fit_only = args.radius.is_some()
-        || args.degree.is_some()
-        || args.no_noise_adaptation
-        || args.creases.is_some();
-    if jet_fit_only && estimator != Estimator::JetFit {
+    let defaults = CurvatureOptions::default().with_estimator(Estimator::JetFit);
+    let estimator = args.estimator.estimator(defaults.estimator);
+    let mut unused = args.estimator.unused(defaults.estimator);
+    if args.creases.is_some() && estimator != Estimator::JetFit {
+        unused.push(format!(
+            "--creases (the estimation splits at creases with the jet-fit estimator only; this \
+             run uses {})",
+            estimator_name(estimator)
+        ));
+    }
+    if !unused.is_empty() {
         bail!(
-            "--radius, --degree, --no-noise-adaptation and --creases apply to --estimator \
-             jet-fit only"
+            "options that --estimator {} would not use: {}",
+            estimator_name(estimator),
+            unused.join("; ")
         );
     }
-    if args.rings.is_some() && estimator != Estimator::CubicFit {
-        bail!("--rings applies to --estimator cubic-fit only");
-    }
-    let mut options = CurvatureOptions::default().with_estimator(estimator);
-    if let Some(k) = args.rings {
-        options = options.with_rings(k);
-    }
-    if let Some(r) = args.radius {
-        options.jet_fit = options.jet_fit.with_radius(r);
-    }
-    if let Some(d) = args.degree {
-        options.jet_fit = options.jet_fit.with_degree(d.into());
-    }
-    options.jet_fit = options
-        .jet_fit
-        .with_adapt_to_noise(!args.no_noise_adaptation);
-    Ok(options)
+    Ok(args.estimator.apply(defaults))
 }

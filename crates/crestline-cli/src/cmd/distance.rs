@@ -5,35 +5,30 @@ use std::path::PathBuf;
 
 use anyhow::{Result, bail};
 use crestline::distance::{DistanceOptions, feature_distance};
-use crestline::io::{Format, PlyEncoding, PlyWriter, VertexProperty};
+use crestline::io::{Format, PlyWriter, VertexProperty};
 
-use crate::input::{MeshArgs, OrientArgs, is_dash, load_lines, prepare_mesh};
-use crate::output::{display, refuse_overwriting_inputs, to_stdout};
+use crate::input::{LinesArg, OrientedMeshArgs, is_dash, load_lines};
+use crate::output::{PlyEncodingArg, display, refuse_overwriting_inputs, to_stdout};
 use crate::progress::{self, note};
 
 /// Arguments of `crestline distance`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    pub input: MeshArgs,
-    #[command(flatten)]
-    pub orient: OrientArgs,
+    pub input: OrientedMeshArgs,
     /// Output: the mesh as PLY with the vertex property `feature_distance`, or `-` for
     /// standard output. Vertices no line reaches (other components) get the largest distance
     /// found.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Feature lines as `crestline extract` writes them (OBJ, PLY or JSON, by extension).
-    /// Without it they are extracted from the mesh with the default method.
-    #[arg(long, value_name = "LINES.{obj,ply,json}")]
-    pub lines: Option<PathBuf>,
+    #[command(flatten)]
+    pub lines: LinesArg,
     /// Propagate along edges only (plain Dijkstra, which overestimates) instead of also
     /// across triangles.
     #[arg(long)]
     pub edges_only: bool,
-    /// Write ascii PLY instead of binary.
-    #[arg(long)]
-    pub ascii: bool,
+    #[command(flatten)]
+    pub ply: PlyEncodingArg,
 }
 
 /// Runs the subcommand.
@@ -44,13 +39,9 @@ pub fn run(args: Args) -> Result<()> {
             args.output.display()
         );
     }
-    refuse_overwriting_inputs(
-        &args.output,
-        &[args.input.mesh.as_deref(), args.lines.as_deref()],
-    )?;
-    let (mesh, name) = progress::step("reading", || args.input.load())?;
-    let mesh = prepare_mesh(mesh, &name, args.orient)?;
-    let lines = progress::step("feature lines", || load_lines(args.lines.as_deref(), &mesh))?;
+    refuse_overwriting_inputs(&args.output, &[args.input.path(), args.lines.path()])?;
+    let (mesh, name) = args.input.load()?;
+    let lines = progress::step("feature lines", || load_lines(args.lines.path(), &mesh))?;
     let options = DistanceOptions::default().with_relax_across_triangles(!args.edges_only);
     let distance = progress::step("distance to the lines", || {
         feature_distance(&mesh, &lines, &options)
@@ -62,13 +53,8 @@ pub fn run(args: Args) -> Result<()> {
         .iter()
         .map(|&d| if d.is_finite() { d } else { distance.max })
         .collect();
-    let encoding = if args.ascii {
-        PlyEncoding::Ascii
-    } else {
-        PlyEncoding::BinaryLittleEndian
-    };
     let writer = PlyWriter::new(&mesh)
-        .encoding(encoding)
+        .encoding(args.ply.encoding())
         .comment(format!("feature_distance to {} lines", lines.lines.len()))
         .property(VertexProperty::new("feature_distance", values))?;
     if is_dash(&args.output) {

@@ -7,23 +7,22 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
-use crestline::curvature::Estimator;
 use crestline::curvature::cubic_fit::MAX_RINGS;
 use crestline::extract::{
-    ExtractOptions, ExtractStats, Extraction, Method, Stage, extract_with_progress,
+    ExtractOptions, ExtractStats, Extraction, Method, Pipeline, Stage, extract_with_progress,
 };
 use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines, write_lines_to};
-use crestline::io::mask::read_diffusion_factors;
 use crestline::lines::crease::CreaseAngle;
-use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
+use crestline::smoothing::extremality::MaskRegion;
 use crestline::smoothing::surface::SurfaceSmoothing;
+use crestline::threshold::Threshold;
 use crestline::{TriMesh, Vec3};
 use indicatif::ProgressBar;
 
 use super::batch;
-use super::curvature::EstimatorArg;
-use crate::input::{FormatArg, OrientArgs, is_dash, load_mesh, prepare_mesh};
+use super::curvature::EstimatorArgs;
+use crate::input::{FormatArg, OrientArgs, diffusion_factors, is_dash, load_mesh, prepare_mesh};
 use crate::output::{display, refuse_overwriting_inputs, to_stdout};
 use crate::progress::{self, note};
 use crate::scene::{UpArg, UpArgs, WireframeArgs, resolve_up};
@@ -102,11 +101,6 @@ pub struct Args {
     /// angles; none when there is no gap, as on scans), `off`, or a dihedral angle in degrees.
     #[arg(long, value_name = "auto|off|DEGREES", value_parser = creases)]
     pub creases: Option<CreaseAngle>,
-    /// Weight of the neighbourhood in the principal directions of the shape operator, >= 0
-    /// (estimator shape-operator only; default 0.5; 0 gives the paper's operator, whose
-    /// directions are arbitrary on flat faces).
-    #[arg(long, value_name = "LAMBDA", value_parser = non_negative)]
-    pub direction_support: Option<f64>,
     /// Strength threshold, or `auto` to pick it from the knee of the sorted strengths.
     /// HPW: the strength T of YBS eq. 5, default 1. YBS: default auto (the knee of the
     /// strengths above T = 1; 1 when there is none). Saliency: the saliency, default auto.
@@ -122,27 +116,18 @@ pub struct Args {
     /// Surface pre-smoothing steps (implicit mean-curvature flow). Off by default.
     #[arg(long)]
     pub pre_smooth: Option<usize>,
-    /// Curvature estimator (default: jet-fit for hpw and ybs, cubic-fit for saliency).
-    #[arg(long, value_enum)]
-    pub estimator: Option<EstimatorArg>,
-    /// Radius of the jet fit's disc, in sample spacings, > 0 (estimator jet-fit only;
-    /// default 2.5).
-    #[arg(long, value_parser = positive)]
-    pub radius: Option<f64>,
-    /// Rings of YBS's cubic fit, 1 to 8 (the paper uses 1 to 4); selects the cubic-fit
-    /// estimator.
-    #[arg(long, value_parser = rings)]
-    pub rings: Option<usize>,
+    #[command(flatten)]
+    pub estimator: EstimatorArgs,
     /// Per-vertex diffusion factors for inhomogeneous smoothing: a text file with one number
     /// per vertex (whitespace separated, `#` comments).
     #[arg(long)]
     pub mask: Option<PathBuf>,
     /// A sphere `x,y,z,r,factor` scaling the smoothing inside it (repeatable).
-    #[arg(long = "mask-sphere", value_name = "X,Y,Z,R,F")]
-    pub mask_spheres: Vec<String>,
+    #[arg(long = "mask-sphere", value_name = "X,Y,Z,R,F", value_parser = mask_sphere)]
+    pub mask_spheres: Vec<MaskRegion>,
     /// A box `x0,y0,z0,x1,y1,z1,factor` scaling the smoothing inside it (repeatable).
-    #[arg(long = "mask-box", value_name = "X0,Y0,Z0,X1,Y1,Z1,F")]
-    pub mask_boxes: Vec<String>,
+    #[arg(long = "mask-box", value_name = "X0,Y0,Z0,X1,Y1,Z1,F", value_parser = mask_box)]
+    pub mask_boxes: Vec<MaskRegion>,
     /// Disable gap jumping (YBS only).
     #[arg(long)]
     pub no_gaps: bool,
@@ -190,7 +175,9 @@ pub fn run(args: Args) -> Result<()> {
     let (mesh, name) = progress::step("reading", || load_mesh(input, args.input_format))?;
     let mesh = prepare_mesh(mesh, &name, args.orient)?;
     let load = clock.elapsed();
-    let options = options_from_args(&args, &mesh)?;
+    let mut options = options_from_args(&args)?;
+    options.smoothing.diffusion =
+        diffusion_factors(args.mask.as_deref(), mask_regions(&args), &mesh)?;
     let extraction = run_with_progress(&mesh, &options, progress::quiet())?;
 
     let format = lines_format(&args, &output);
@@ -268,8 +255,8 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
     }
     if s.threshold_is_auto {
         eprintln!("automatic threshold: {:.6}", s.threshold);
-    } else if options.auto_threshold {
-        match options.method {
+    } else if options.pipeline.threshold().is_auto() {
+        match options.method() {
             Method::Saliency => {
                 eprintln!("automatic threshold: the saliency has no knee, no feature points")
             }
@@ -327,38 +314,12 @@ fn method(args: &Args) -> Method {
 fn check_method_options(args: &Args) -> Result<()> {
     let method = method(args);
     let defaults = ExtractOptions::for_method(method);
-    let estimator = match (args.estimator, args.rings) {
-        (Some(e), _) => e.into(),
-        (None, Some(_)) => Estimator::CubicFit,
-        (None, None) => defaults.curvature.estimator,
-    };
     let method_name = format!("{:?}", args.method).to_lowercase();
     let mut unused: Vec<String> = Vec::new();
     if args.no_gaps && method != Method::Ybs {
         unused.push("--no-gaps (gap jumping is part of --method ybs only)".into());
     }
-    let estimator_name = |e: Estimator| match e {
-        Estimator::ShapeOperator => "shape-operator",
-        Estimator::CubicFit => "cubic-fit",
-        Estimator::JetFit => "jet-fit",
-    };
-    for (given, flag, needs) in [
-        (args.radius.is_some(), "--radius", Estimator::JetFit),
-        (args.rings.is_some(), "--rings", Estimator::CubicFit),
-        (
-            args.direction_support.is_some(),
-            "--direction-support",
-            Estimator::ShapeOperator,
-        ),
-    ] {
-        if given && estimator != needs {
-            unused.push(format!(
-                "{flag} (it applies to the {} estimator; this run uses {})",
-                estimator_name(needs),
-                estimator_name(estimator)
-            ));
-        }
-    }
+    unused.extend(args.estimator.unused(defaults.curvature.estimator));
     if !unused.is_empty() {
         bail!(
             "options that --method {method_name} would not use: {}",
@@ -389,7 +350,7 @@ pub fn positive(s: &str) -> Result<f64, String> {
 }
 
 /// Parses a number >= 0.
-fn non_negative(s: &str) -> Result<f64, String> {
+pub fn non_negative(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
         _ => Err(format!("expected a number >= 0, got '{s}'")),
@@ -431,7 +392,7 @@ pub fn creases(s: &str) -> Result<CreaseAngle, String> {
 }
 
 /// Turns the arguments into the library's options.
-pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> {
+pub fn options_from_args(args: &Args) -> Result<ExtractOptions> {
     let mut o = ExtractOptions::for_method(method(args));
     // Every mesh is oriented as it is loaded (`prepare_mesh`), as for the other commands.
     o.orient_outward = false;
@@ -448,27 +409,23 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
     if let Some(angle) = args.creases {
         o.creases.angle = angle;
     }
-    if let Some(support) = args.direction_support {
-        o.curvature.shape_operator.direction_support = support;
-    }
     match args.threshold.as_deref() {
-        Some("auto") => o.auto_threshold = true,
+        Some("auto") => o.pipeline.set_threshold(o.pipeline.automatic_threshold()),
         Some(x) => {
-            o.filter.threshold = x
+            let t = x
                 .parse::<f64>()
                 .ok()
                 .filter(|t| t.is_finite())
                 .with_context(|| format!("--threshold takes a number or `auto`, got `{x}`"))?;
-            o.auto_threshold = false;
+            o.pipeline.set_threshold(Threshold::Fixed(t));
         }
         None => {}
     }
     if let Some(l) = args.min_length {
-        o.filter.min_length = l;
+        o.min_length = l;
     }
-    let diagonal = mesh.bounding_box().diagonal();
     if let Some(f) = args.fair {
-        o.fairing.tolerance = f * diagonal;
+        o.fairing.tolerance = f;
     }
     if let Some(n) = args.pre_smooth {
         o.pre_smoothing = SurfaceSmoothing {
@@ -476,68 +433,55 @@ pub fn options_from_args(args: &Args, mesh: &TriMesh) -> Result<ExtractOptions> 
             ..Default::default()
         };
     }
-    if let Some(k) = args.rings {
-        o.curvature = o
-            .curvature
-            .with_rings(k)
-            .with_estimator(Estimator::CubicFit);
+    o.curvature = args.estimator.apply(o.curvature);
+    if let (true, Pipeline::Ybs(ybs)) = (args.no_gaps, &mut o.pipeline) {
+        ybs.gaps = None;
     }
-    if let Some(e) = args.estimator {
-        o.curvature.estimator = e.into();
-    }
-    if let Some(r) = args.radius {
-        o.curvature.jet_fit.radius = r;
-    }
-    if args.no_gaps {
-        o.gaps = None;
-    }
-    o.smoothing.diffusion = diffusion_factors(args, mesh)?;
     Ok(o)
 }
 
-fn diffusion_factors(args: &Args, mesh: &TriMesh) -> Result<Option<Vec<f64>>> {
-    let mut factors = match &args.mask {
-        Some(path) => Some(read_diffusion_factors(path, mesh.num_vertices())?),
-        None => None,
-    };
-    let mut mask = DiffusionMask::default();
-    for s in &args.mask_spheres {
-        let v = numbers(s, 5, "--mask-sphere")?;
-        mask.regions.push(MaskRegion::Sphere {
-            center: Vec3::new(v[0], v[1], v[2]),
-            radius: v[3],
-            factor: v[4],
-        });
-    }
-    for s in &args.mask_boxes {
-        let v = numbers(s, 7, "--mask-box")?;
-        mask.regions.push(MaskRegion::Box {
-            min: Vec3::new(v[0], v[1], v[2]),
-            max: Vec3::new(v[3], v[4], v[5]),
-            factor: v[6],
-        });
-    }
-    if !mask.regions.is_empty() {
-        let regions = mask.factors(mesh);
-        // Regions apply on top of the file's factors, where they contain the vertex.
-        factors = Some(match factors {
-            Some(f) => f.iter().zip(&regions).map(|(a, b)| a * b).collect(),
-            None => regions,
-        });
-    }
-    Ok(factors)
+/// The `--mask-sphere` regions, then the `--mask-box` ones (the last containing a vertex
+/// wins).
+pub fn mask_regions(args: &Args) -> Vec<MaskRegion> {
+    args.mask_spheres
+        .iter()
+        .chain(&args.mask_boxes)
+        .cloned()
+        .collect()
 }
 
-fn numbers(text: &str, count: usize, flag: &str) -> Result<Vec<f64>> {
+/// Parses `--mask-sphere x,y,z,r,factor`.
+fn mask_sphere(s: &str) -> Result<MaskRegion, String> {
+    let [x, y, z, radius, factor] = numbers(s)?;
+    Ok(MaskRegion::Sphere {
+        center: Vec3::new(x, y, z),
+        radius,
+        factor,
+    })
+}
+
+/// Parses `--mask-box x0,y0,z0,x1,y1,z1,factor`.
+fn mask_box(s: &str) -> Result<MaskRegion, String> {
+    let [x0, y0, z0, x1, y1, z1, factor] = numbers(s)?;
+    Ok(MaskRegion::Box {
+        min: Vec3::new(x0, y0, z0),
+        max: Vec3::new(x1, y1, z1),
+        factor,
+    })
+}
+
+/// `N` comma-separated finite numbers.
+fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
+    let expected = || format!("expected {N} comma-separated finite numbers, got '{text}'");
     let v: Vec<f64> = text
         .split(',')
         .map(|t| t.trim().parse::<f64>())
         .collect::<Result<_, _>>()
-        .with_context(|| format!("{flag} takes {count} comma-separated numbers, got `{text}`"))?;
-    if v.len() != count || v.iter().any(|x| !x.is_finite()) {
-        bail!("{flag} takes {count} comma-separated finite numbers, got `{text}`");
+        .map_err(|_| expected())?;
+    match <[f64; N]>::try_from(v) {
+        Ok(v) if v.iter().all(|x| x.is_finite()) => Ok(v),
+        _ => Err(expected()),
     }
-    Ok(v)
 }
 
 /// `<mesh name>-lines.<format>` (`example` for the built-in example, `stdin` for standard

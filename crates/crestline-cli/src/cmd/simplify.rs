@@ -1,30 +1,21 @@
 //! `crestline simplify`: crest-line-guided quadric-error decimation (YBS 2005, eq. 7).
 
-use std::path::PathBuf;
-
 use anyhow::{Result, bail};
 use crestline::io::{WriteOptions, write_mesh, write_mesh_to};
 use crestline::lines::FeatureLines;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
 
-use crate::input::{FormatArg, MeshArgs, OrientArgs, is_dash, load_lines, prepare_mesh};
-use crate::output::{display, mesh_format, to_stdout};
+use crate::input::{LinesArg, OrientedMeshArgs, is_dash, load_lines};
+use crate::output::{MeshOutputArgs, display, to_stdout};
 use crate::progress::{self, note};
 
 /// Arguments of `crestline simplify`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    pub input: MeshArgs,
+    pub input: OrientedMeshArgs,
     #[command(flatten)]
-    pub orient: OrientArgs,
-    /// Output mesh, or `-` for standard output; the format follows the extension (.obj,
-    /// .ply, .off, .stl) unless --format is given.
-    #[arg(short, long)]
-    pub output: PathBuf,
-    /// Output format (needed for standard output).
-    #[arg(long, value_enum)]
-    pub format: Option<FormatArg>,
+    pub out: MeshOutputArgs,
     /// Keep this fraction of the triangles, in (0, 1]. Default: 0.1.
     #[arg(long, conflicts_with = "faces", value_parser = ratio)]
     pub ratio: Option<f64>,
@@ -38,10 +29,8 @@ pub struct Args {
     /// Regularisation epsilon of eq. 7. Default: 0.1.
     #[arg(long)]
     pub eps: Option<f64>,
-    /// Feature lines as `crestline extract` writes them (OBJ, PLY or JSON, by extension).
-    /// Without it they are extracted from the mesh with the default method.
-    #[arg(long, value_name = "LINES.{obj,ply,json}")]
-    pub lines: Option<PathBuf>,
+    #[command(flatten)]
+    pub lines: LinesArg,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -49,10 +38,10 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    if is_dash(&args.output) && args.json {
+    if is_dash(&args.out.output) && args.json {
         bail!("--json and -o - both write to standard output: choose one");
     }
-    let output_format = mesh_format(&args.output, args.format)?;
+    let output_format = args.out.format()?;
     let mut options = SimplifyOptions::default();
     if let Some(r) = args.ratio {
         options.target = Target::Ratio(r);
@@ -66,25 +55,24 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(eps) = args.eps {
         options.eps = eps;
     }
-    let (mesh, name) = progress::step("reading", || args.input.load())?;
-    let mesh = prepare_mesh(mesh, &name, args.orient)?;
-    let lines = if options.eta == 0.0 && args.lines.is_none() {
+    let (mesh, name) = args.input.load()?;
+    let lines = if options.eta == 0.0 && args.lines.path().is_none() {
         FeatureLines::default()
     } else {
-        progress::step("feature lines", || load_lines(args.lines.as_deref(), &mesh))?
+        progress::step("feature lines", || load_lines(args.lines.path(), &mesh))?
     };
     let result = progress::step(
         format!("simplifying {} triangles", mesh.num_faces()),
         || simplify(&mesh, &lines, &options),
     )?;
     progress::step("writing", || -> Result<()> {
-        if is_dash(&args.output) {
+        if is_dash(&args.out.output) {
             to_stdout(|out| {
                 write_mesh_to(out, &result.mesh, output_format, &WriteOptions::default())
             })
         } else {
             Ok(write_mesh(
-                &args.output,
+                &args.out.output,
                 &result.mesh,
                 output_format,
                 &WriteOptions::default(),
@@ -95,7 +83,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.json {
         let report = serde_json::json!({
             "input": name,
-            "output": display(&args.output),
+            "output": display(&args.out.output),
             "lines": lines.lines.len(),
             "faces_before": result.faces_before,
             "faces_after": result.faces_after,
@@ -134,7 +122,7 @@ pub fn run(args: Args) -> Result<()> {
              {} non-manifold, {} on creases (kept as they are)",
             r.link, r.flip, r.degenerate, r.boundary, r.non_manifold, r.fixed
         );
-        note!("written to {}", display(&args.output));
+        note!("written to {}", display(&args.out.output));
     }
     Ok(())
 }

@@ -1,13 +1,11 @@
 //! `crestline subdivide`: Loop subdivision (each level turns every triangle into four).
 
-use std::path::PathBuf;
-
 use anyhow::Result;
 use crestline::io::{WriteOptions, write_mesh, write_mesh_to};
 use crestline::mesh::{SubdivideOptions, loop_subdivide};
 
-use crate::input::{FormatArg, MeshArgs, is_dash};
-use crate::output::{display, mesh_format, to_stdout};
+use crate::input::{MeshArgs, is_dash};
+use crate::output::{MeshOutputArgs, display, to_stdout};
 use crate::progress::{self, note};
 
 /// Arguments of `crestline subdivide`.
@@ -15,13 +13,8 @@ use crate::progress::{self, note};
 pub struct Args {
     #[command(flatten)]
     pub input: MeshArgs,
-    /// Output mesh, or `-` for standard output; the format follows the extension (.obj,
-    /// .ply, .off, .stl) unless --format is given.
-    #[arg(short, long)]
-    pub output: PathBuf,
-    /// Output format (needed for standard output).
-    #[arg(long, value_enum)]
-    pub format: Option<FormatArg>,
+    #[command(flatten)]
+    pub out: MeshOutputArgs,
     /// Subdivision levels; each multiplies the number of faces by 4. With 0 the mesh is only
     /// converted (degenerate faces dropped). Default: 1.
     #[arg(long)]
@@ -34,7 +27,7 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    let output_format = mesh_format(&args.output, args.format)?;
+    let output_format = args.out.format()?;
     let mut options = SubdivideOptions::default();
     if let Some(levels) = args.levels {
         options.levels = levels;
@@ -48,11 +41,11 @@ pub fn run(args: Args) -> Result<()> {
         || loop_subdivide(&mesh, &options),
     )?;
     progress::step("writing", || -> Result<()> {
-        if is_dash(&args.output) {
+        if is_dash(&args.out.output) {
             to_stdout(|out| write_mesh_to(out, &result, output_format, &WriteOptions::default()))
         } else {
             Ok(write_mesh(
-                &args.output,
+                &args.out.output,
                 &result,
                 output_format,
                 &WriteOptions::default(),
@@ -67,7 +60,7 @@ pub fn run(args: Args) -> Result<()> {
         result.num_vertices(),
         options.levels,
         if options.levels == 1 { "" } else { "s" },
-        display(&args.output)
+        display(&args.out.output)
     );
     Ok(())
 }

@@ -4,11 +4,24 @@
 // Each test module uses a subset of these helpers.
 #![allow(dead_code, clippy::expect_used)]
 
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs `crestline` with `args` and returns what it did (whatever its exit code).
 pub fn crestline(args: &[&str]) -> Output {
+    run(args)
+}
+
+/// Runs `crestline` with `args`, checks that it succeeded and returns what it did.
+#[track_caller]
+pub fn crestline_ok<I: IntoIterator<Item = S>, S: AsRef<OsStr>>(args: I) -> Output {
+    let out = run(args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    out
+}
+
+fn run<I: IntoIterator<Item = S>, S: AsRef<OsStr>>(args: I) -> Output {
     Command::new(env!("CARGO_BIN_EXE_crestline"))
         .args(args)
         .output()

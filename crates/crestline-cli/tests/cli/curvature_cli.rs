@@ -4,7 +4,8 @@
 #![allow(clippy::unwrap_used)]
 
 use std::ffi::OsStr;
-use std::process::Command;
+
+use crate::common::crestline_ok;
 
 /// Runs `crestline` with `args` on fandisk (the mesh the command uses as its built-in example,
 /// inserted after the subcommand) and checks that it succeeded.
@@ -13,15 +14,7 @@ fn crestline<I: IntoIterator<Item = S>, S: AsRef<OsStr>>(args: I) {
     let mut args: Vec<std::ffi::OsString> =
         args.into_iter().map(|a| a.as_ref().to_owned()).collect();
     args.insert(1, fandisk.into());
-    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    crestline_ok(args);
 }
 
 #[test]
@@ -171,19 +164,11 @@ fn curvature_saliency_writes_curv_and_saliency_values() {
 fn curvature_csv(mesh: &std::path::Path, args: &[&str]) -> (Vec<String>, Vec<Vec<f64>>) {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("fields.csv");
-    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .arg("curvature")
-        .arg(mesh)
-        .args(args)
-        .args(["--csv", "-q", "-o"])
-        .arg(&csv)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let mut run: Vec<&OsStr> = vec!["curvature".as_ref(), mesh.as_ref()];
+    run.extend(args.iter().map(OsStr::new));
+    run.extend(["--csv", "-q", "-o"].map(OsStr::new));
+    run.push(csv.as_ref());
+    crestline_ok(run);
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut rows = text.lines();
     let header = rows.next().unwrap().split(',').map(str::to_owned).collect();

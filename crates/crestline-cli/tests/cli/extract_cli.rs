@@ -3,29 +3,21 @@
 // Test code: stopping loudly on the first surprise is the point.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::process::Command;
+use crate::common::crestline_ok;
 
 #[test]
 fn json_stats_time_every_step_and_count_the_written_lines() {
     let dir = tempfile::tempdir().unwrap();
     let output = dir.path().join("lines.obj");
     // fandisk, the built-in example.
-    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args([
-            "extract",
-            concat!(env!("CARGO_MANIFEST_DIR"), "/data/fandisk.obj"),
-            "-o",
-            output.to_str().unwrap(),
-            "--stats=json",
-            "-q",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = crestline_ok([
+        "extract",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/data/fandisk.obj"),
+        "-o",
+        output.to_str().unwrap(),
+        "--stats=json",
+        "-q",
+    ]);
     let stats: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for key in ["load_seconds", "write_seconds"] {
         let t = stats[key].as_f64().unwrap_or(-1.0);

@@ -4,9 +4,11 @@
 // Test code: stopping loudly on the first surprise is the point.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+use std::ffi::OsStr;
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::Command;
+
+use crate::common::{crestline_ok, stderr};
 
 use crestline::shapes;
 
@@ -27,20 +29,16 @@ fn write_inward_ellipsoid(path: &Path) {
 fn extract(mesh: &Path, extra: &[&str]) -> (u64, u64, String) {
     let dir = mesh.parent().unwrap();
     let output = dir.join("lines.obj");
-    let out = Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(["extract", mesh.to_str().unwrap(), "-o"])
-        .arg(&output)
-        .args(["--stats=json", "-q"])
-        .args(extra)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(out.status.success(), "{stderr}");
+    let mut args: Vec<&OsStr> = vec!["extract".as_ref(), mesh.as_ref(), "-o".as_ref()];
+    args.push(output.as_ref());
+    args.extend(["--stats=json", "-q"].map(OsStr::new));
+    args.extend(extra.iter().map(OsStr::new));
+    let out = crestline_ok(args);
     let stats: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     (
         stats["ridges"].as_u64().unwrap(),
         stats["valleys"].as_u64().unwrap(),
-        stderr,
+        stderr(&out),
     )
 }
 

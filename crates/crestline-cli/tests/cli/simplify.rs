@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::common::{crestline, stderr};
+use crate::common::{crestline, crestline_ok, stderr};
 use crestline::io::{Format, WriteOptions, read_mesh, write_mesh};
 
 /// Writes the pillow box (12 · 16² triangles) and its creases; returns (mesh, lines) paths.
@@ -29,7 +29,7 @@ fn simplify_with_lines_meets_the_face_count() {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, lines) = pillow_box_files(dir.path());
     let out = dir.path().join("small.ply");
-    let run = crestline(&[
+    let run = crestline_ok([
         "simplify",
         s(&mesh),
         "-o",
@@ -42,7 +42,6 @@ fn simplify_with_lines_meets_the_face_count() {
         s(&lines),
         "--json",
     ]);
-    assert!(run.status.success(), "{}", stderr(&run));
     let report: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
     assert_eq!(report["lines"], 12);
     assert_eq!(report["faces_before"], 3072);
@@ -60,7 +59,7 @@ fn plain_qem_needs_no_lines() {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, _) = pillow_box_files(dir.path());
     let out = dir.path().join("small.off");
-    let run = crestline(&[
+    crestline_ok([
         "simplify",
         s(&mesh),
         "-o",
@@ -70,7 +69,6 @@ fn plain_qem_needs_no_lines() {
         "--eta",
         "0",
     ]);
-    assert!(run.status.success(), "{}", stderr(&run));
     assert_eq!(read_mesh(&out, None).unwrap().num_faces(), 768);
 }
 
@@ -79,7 +77,7 @@ fn distance_writes_a_ply_vertex_property() {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, lines) = pillow_box_files(dir.path());
     let out = dir.path().join("field.ply");
-    let run = crestline(&[
+    crestline_ok([
         "distance",
         s(&mesh),
         "-o",
@@ -88,7 +86,6 @@ fn distance_writes_a_ply_vertex_property() {
         s(&lines),
         "--ascii",
     ]);
-    assert!(run.status.success(), "{}", stderr(&run));
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.contains("property double feature_distance\n"));
     let vertices = read_mesh(&mesh, None).unwrap().num_vertices();
@@ -111,8 +108,7 @@ fn without_lines_they_are_extracted() {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, _) = pillow_box_files(dir.path());
     let out = dir.path().join("small.obj");
-    let run = crestline(&["simplify", s(&mesh), "-o", s(&out), "--json"]);
-    assert!(run.status.success(), "{}", stderr(&run));
+    let run = crestline_ok(["simplify", s(&mesh), "-o", s(&out), "--json"]);
     assert!(stderr(&run).contains("extracting"), "{}", stderr(&run));
     let report: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
     // Lines were found on the creases (how they split and join is extraction's business).

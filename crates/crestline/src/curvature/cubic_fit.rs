@@ -741,23 +741,11 @@ mod tests {
         let centre = 4 * 9 + 4;
         let mut s = Scratch::default();
         s.start();
-        let mut seen = vec![usize::MAX; m.num_vertices()];
-        seen[centre as usize] = 0;
-        let mut frontier = vec![centre];
+        let rings = crate::shapes::exact::rings_from(&m, &[centre]);
         for level in 1..=4 {
             assert!(s.grow(topo, centre));
-            let mut next = Vec::new();
-            for &u in &frontier {
-                for w in topo.neighbors(u) {
-                    if seen[w as usize] == usize::MAX {
-                        seen[w as usize] = level;
-                        next.push(w);
-                    }
-                }
-            }
-            frontier = next;
             let mut expected: Vec<u32> = (0..m.num_vertices() as u32)
-                .filter(|&w| seen[w as usize] >= 1 && seen[w as usize] <= level)
+                .filter(|&w| (1..=level).contains(&rings[w as usize]))
                 .collect();
             let mut got = s.ring.clone();
             expected.sort_unstable();

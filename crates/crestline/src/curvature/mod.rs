@@ -2,7 +2,7 @@
 //!
 //! Two estimators fill the same [`Curvature`] result:
 //! - [`Estimator::ShapeOperator`]: the discrete shape operator of HPW 2005 (sec. 3) with the
-//!   discrete extremalities of its eq. 4 ([`shape_operator()`], [`crate::extremality`]);
+//!   discrete extremalities of its eq. 4 ([`shape_operator()`], [`extremality`]);
 //! - [`Estimator::CubicFit`]: the enhanced adjacent-normal cubic fit of YBS 2005 (eq. 2) with
 //!   the extremality of its eq. 3 ([`cubic_fit()`]).
 //!
@@ -22,6 +22,7 @@
 //! uniform scaling by s, curvatures scale by 1/s and extremalities by 1/s².
 
 pub mod cubic_fit;
+pub mod extremality;
 pub mod jet_fit;
 pub mod shape_operator;
 

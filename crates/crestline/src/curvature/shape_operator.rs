@@ -70,11 +70,11 @@
 use nalgebra::SymmetricEigen;
 use rayon::prelude::*;
 
+use super::extremality::compute_extremalities;
 use super::{
     Curvature, VertexEstimate, collect_estimates_with_normals, symmetric_eigen_2x2, tangent_frame,
 };
-use crate::extremality::fill_extremalities;
-use crate::mesh::{TriMesh, Vec3, VertexKind};
+use crate::mesh::{TriMesh, Vec3, VertexKind, face_normal_and_area};
 
 /// A symmetric 3×3 matrix of `f64` (shape operators).
 pub type Matrix3 = nalgebra::Matrix3<f64>;
@@ -211,21 +211,6 @@ pub fn edge_shape_operator(a: Vec3, b: Vec3, n1: Vec3, n2: Vec3) -> Option<EdgeS
         across,
         normal,
     })
-}
-
-/// Unit normal and area of face `f` from one cross product (zero normal for a face made
-/// degenerate by [`TriMesh::with_positions`]).
-#[inline]
-pub(crate) fn face_normal_and_area(mesh: &TriMesh, f: usize) -> (Vec3, f64) {
-    let [a, b, c] = mesh.triangle(f);
-    let cross = (b - a).cross(&(c - a));
-    let norm = cross.norm();
-    let normal = if norm > 0.0 {
-        cross / norm
-    } else {
-        Vec3::zeros()
-    };
-    (normal, 0.5 * norm)
 }
 
 /// The star of one vertex as the vertex operator needs it: its faces' unit normals and, per
@@ -437,7 +422,7 @@ pub fn principal_curvatures(
 pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvature {
     // Memory: the point operators are built from each vertex's star without per-face tables
     // (see `Star`); the vertex normals become the result's normals; the extremalities are
-    // computed face by face without a per-face table (see `fill_extremalities`).
+    // computed face by face without a per-face table (see `compute_extremalities`).
     let topo = mesh.topology();
     // Collected in place by the worker threads (filling the arrays first, on one thread,
     // took 20 ms on a 1.5M-face mesh).
@@ -492,7 +477,7 @@ pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvatu
     )
     .0;
     drop((operators, direction_operators));
-    fill_extremalities(mesh, &mut curvature);
+    compute_extremalities(mesh, &mut curvature);
     curvature
 }
 
@@ -713,27 +698,7 @@ mod tests {
         // e_x for the edges to ±e_y): S(p) = 2/√3 (e_x e_xᵀ + e_y e_yᵀ). The star is four
         // equilateral triangles of side √2, area 4 · √3/2 = 2√3, so the point value is
         // 3/(2√3) · 2/√3 = 1 in both directions.
-        let m = TriMesh::from_arrays(
-            vec![
-                [1.0, 0.0, 0.0],
-                [-1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, -1.0, 0.0],
-                [0.0, 0.0, 1.0],
-                [0.0, 0.0, -1.0],
-            ],
-            vec![
-                [0, 2, 4],
-                [2, 1, 4],
-                [1, 3, 4],
-                [3, 0, 4],
-                [2, 0, 5],
-                [1, 2, 5],
-                [3, 1, 5],
-                [0, 3, 5],
-            ],
-        )
-        .unwrap();
+        let m = crate::shapes::octahedron();
         let c = shape_operator(&m, &ShapeOperatorOptions::DEFAULT);
         assert_eq!(c.fallback_vertices, 0);
         for v in 0..6 {

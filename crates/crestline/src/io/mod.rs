@@ -34,7 +34,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use crate::error::{Error, Location, Result};
-use crate::mesh::TriMesh;
+use crate::mesh::{TriMesh, Vec3};
 
 pub use ply::{PlyEncoding, PlyWriter, PropertyValues, VertexProperty, write_ply};
 use text::Source;
@@ -398,6 +398,20 @@ fn push_fan(faces: &mut Vec<[u32; 3]>, corners: &[u32]) {
     if let Some((&first, rest)) = corners.split_first() {
         faces.extend(rest.windows(2).map(|w| [first, w[0], w[1]]));
     }
+}
+
+/// Writes a point as `x y z` and a newline, each coordinate as [`write_f64`] (the vertex lines
+/// of the OBJ and OFF writers).
+///
+/// # Errors
+/// As [`write_f64`].
+fn write_xyz(out: &mut impl Write, p: &Vec3) -> std::io::Result<()> {
+    write_f64(out, p.x)?;
+    out.write_all(b" ")?;
+    write_f64(out, p.y)?;
+    out.write_all(b" ")?;
+    write_f64(out, p.z)?;
+    out.write_all(b"\n")
 }
 
 /// Writes an `f64` so that parsing it gives back the same bits, in the shortest form:

@@ -20,7 +20,7 @@ use std::io::Write;
 use super::text::{
     Lines, Source, Tokens, is_blank, is_space, parse_i64, short_decimal_prefix, show, vertex,
 };
-use super::{MeshData, push_fan, write_f64};
+use super::{MeshData, push_fan, write_xyz};
 use crate::error::Result;
 use crate::mesh::TriMesh;
 
@@ -208,12 +208,7 @@ pub(super) fn write<W: Write>(mut out: W, mesh: &TriMesh) -> std::io::Result<()>
     )?;
     for p in mesh.positions() {
         out.write_all(b"v ")?;
-        write_f64(&mut out, p.x)?;
-        out.write_all(b" ")?;
-        write_f64(&mut out, p.y)?;
-        out.write_all(b" ")?;
-        write_f64(&mut out, p.z)?;
-        out.write_all(b"\n")?;
+        write_xyz(&mut out, p)?;
     }
     for [a, b, c] in mesh.faces() {
         writeln!(out, "f {} {} {}", a + 1, b + 1, c + 1)?;

@@ -29,7 +29,7 @@ use std::io::Write;
 use rayon::prelude::*;
 
 use super::text::{Lines, Source, Tokens, is_space, parse_i64, show, vertex, vertex_line};
-use super::{MeshData, push_fan, write_f64};
+use super::{MeshData, push_fan, write_xyz};
 use crate::error::Result;
 use crate::mesh::TriMesh;
 
@@ -444,12 +444,7 @@ fn check_header_prefix(prefix: &[u8]) -> Result<(), String> {
 pub(super) fn write<W: Write>(mut out: W, mesh: &TriMesh) -> std::io::Result<()> {
     writeln!(out, "OFF\n{} {} 0", mesh.num_vertices(), mesh.num_faces())?;
     for p in mesh.positions() {
-        write_f64(&mut out, p.x)?;
-        out.write_all(b" ")?;
-        write_f64(&mut out, p.y)?;
-        out.write_all(b" ")?;
-        write_f64(&mut out, p.z)?;
-        out.write_all(b"\n")?;
+        write_xyz(&mut out, p)?;
     }
     for [a, b, c] in mesh.faces() {
         writeln!(out, "3 {a} {b} {c}")?;

@@ -15,7 +15,8 @@ use super::assemble::integrate;
 /// Options of [`fair_lines`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fairing {
-    /// Largest distance a point may move, in model units. Default: 0 (fairing off).
+    /// Largest distance a point may move, as a fraction of the mesh's bounding-box diagonal.
+    /// Default: 0 (fairing off).
     pub tolerance: f64,
     /// Number of bi-Laplacian iterations. Default: 30.
     pub iterations: usize,
@@ -30,20 +31,23 @@ impl Default for Fairing {
     }
 }
 
-/// Fairs every line in place and updates its length.
-pub fn fair_lines(lines: &mut FeatureLines, options: &Fairing) {
-    if options.tolerance.is_nan() || options.tolerance <= 0.0 || options.iterations == 0 {
+/// Fairs every line in place and updates its length; `diagonal` is the mesh's bounding-box
+/// diagonal, the unit of `options.tolerance`.
+pub fn fair_lines(lines: &mut FeatureLines, options: &Fairing, diagonal: f64) {
+    let tolerance = options.tolerance * diagonal;
+    if tolerance.is_nan() || tolerance <= 0.0 || options.iterations == 0 {
         return;
     }
     for line in &mut lines.lines {
-        fair_polyline(&mut line.points, line.closed, options);
+        fair_polyline(&mut line.points, line.closed, tolerance, options.iterations);
         let zeros = vec![0.0; line.points.len()];
         line.length = integrate(&line.points, &zeros, &zeros, line.closed).0;
     }
 }
 
-/// Bi-Laplacian fairing of one polyline with the displacement bound.
-pub fn fair_polyline(points: &mut [Vec3], closed: bool, options: &Fairing) {
+/// Bi-Laplacian fairing of one polyline, `iterations` steps, no point moving farther than
+/// `tolerance` (model units) from where it was.
+pub fn fair_polyline(points: &mut [Vec3], closed: bool, tolerance: f64, iterations: usize) {
     let n = points.len();
     if n < 3 || (closed && n < 4) {
         return;
@@ -54,8 +58,8 @@ pub fn fair_polyline(points: &mut [Vec3], closed: bool, options: &Fairing) {
     let original = points.to_vec();
     let mut lap = vec![Vec3::zeros(); n];
     let fixed = |i: usize| !closed && (i == 0 || i == n - 1);
-    let tol2 = options.tolerance * options.tolerance;
-    for _ in 0..options.iterations {
+    let tol2 = tolerance * tolerance;
+    for _ in 0..iterations {
         for i in 0..n {
             lap[i] = if fixed(i) {
                 Vec3::zeros()
@@ -71,7 +75,7 @@ pub fn fair_polyline(points: &mut [Vec3], closed: bool, options: &Fairing) {
             let mut p = points[i] - bilap * STEP;
             let d = p - original[i];
             if d.norm_squared() > tol2 {
-                p = original[i] + d * (options.tolerance / d.norm());
+                p = original[i] + d * (tolerance / d.norm());
             }
             points[i] = p;
         }
@@ -89,11 +93,7 @@ mod tests {
             .map(|i| Vec3::new(i as f64 * 0.1, if i % 2 == 0 { 0.02 } else { -0.02 }, 0.0))
             .collect();
         let mut p = pts.clone();
-        let opts = Fairing {
-            tolerance: 0.015,
-            iterations: 50,
-        };
-        fair_polyline(&mut p, false, &opts);
+        fair_polyline(&mut p, false, 0.015, 50);
         assert_eq!(p[0], pts[0]);
         assert_eq!(p[39], pts[39]);
         for (a, b) in p.iter().zip(&pts) {
@@ -114,14 +114,7 @@ mod tests {
             })
             .collect();
         let mut p = pts.clone();
-        fair_polyline(
-            &mut p,
-            true,
-            &Fairing {
-                tolerance: 1.0,
-                iterations: 100,
-            },
-        );
+        fair_polyline(&mut p, true, 1.0, 100);
         // On a regular n-gon Δx = -c x with c = 1 - cos(2π/n), so each bi-Laplacian step
         // scales by 1 - c²/4 (100 steps: 5.8e-4 shrink for n = 64) where a Laplacian step with
         // the same size would scale by 1 - c/4 (100 steps: 11% shrink).

@@ -5,6 +5,11 @@
 //! is given relative to the bounding-box diagonal for the same reason.
 
 use super::{FeatureLine, FeatureLines};
+use crate::threshold::{ChosenThreshold, Threshold, choose_threshold};
+
+/// Default threshold of the HPW pipeline on T (dimensionless). Measured: spurious lines on a
+/// torus have T ≈ 0.01, the ellipsoid's crest line T ≈ 40, fandisk's creases T ≈ 2 to 13.
+pub const HPW_DEFAULT_THRESHOLD: f64 = 1.0;
 
 /// Which strength a threshold applies to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -58,4 +63,29 @@ pub fn filter_lines(lines: FeatureLines, filter: &LineFilter, diagonal: f64) -> 
             .filter(|l| l.length >= min_length && filter.measure.of(l) >= filter.threshold)
             .collect(),
     }
+}
+
+/// The automatic threshold step for lines (HPW and YBS): `threshold` applied to the strengths
+/// (`filter.measure`) of the lines at least `filter.min_length` diagonals long
+/// ([`choose_threshold`]); when it is a knee search and the strengths have no knee, its
+/// floor. `filter.threshold` is not read.
+pub fn choose_line_threshold(
+    lines: &FeatureLines,
+    filter: &LineFilter,
+    diagonal: f64,
+    threshold: &Threshold,
+) -> ChosenThreshold {
+    let strengths: Vec<f64> = match threshold {
+        Threshold::Fixed(_) => Vec::new(),
+        Threshold::Knee { .. } => {
+            let min_length = filter.min_length * diagonal;
+            lines
+                .lines
+                .iter()
+                .filter(|l| l.length >= min_length)
+                .map(|l| filter.measure.of(l))
+                .collect()
+        }
+    };
+    choose_threshold(&strengths, threshold, threshold.floor())
 }

@@ -58,6 +58,7 @@
 //! length of the whole network of joined lines 0.985 / 0.892, but noise crest points on a
 //! cone link into one web of 27 diagonals, which then passes; with strokes 0.997 / 0.891.)
 
+use super::filter::HPW_DEFAULT_THRESHOLD;
 use crate::curvature::Curvature;
 use crate::mesh::{TriMesh, Vec3};
 
@@ -79,7 +80,7 @@ pub struct LinkOptions {
     pub extend: bool,
     /// Lines are kept when the stroke they belong to has strength `T` (YBS eq. 5, over the
     /// whole stroke) of at least this (see the module docs, *Strength*). Default:
-    /// [`crate::extract::HPW_DEFAULT_THRESHOLD`], the noise floor of the other methods.
+    /// [`HPW_DEFAULT_THRESHOLD`], the noise floor of the other methods.
     pub min_strength: f64,
 }
 
@@ -88,7 +89,7 @@ impl Default for LinkOptions {
         LinkOptions {
             weak_fraction: 0.8,
             extend: true,
-            min_strength: crate::extract::HPW_DEFAULT_THRESHOLD,
+            min_strength: HPW_DEFAULT_THRESHOLD,
         }
     }
 }

@@ -13,7 +13,7 @@
 //! - crest lines are also cut where their position is interpolated from fields that do not
 //!   describe the surface there: at a point on an edge or inside a triangle, every corner it is
 //!   interpolated from that lies on a crease must have been estimated for that side of the
-//!   crease ([`crate::lines::crease::widest_side`]), and one of them must be off the creases.
+//!   crease ([`crate::mesh::widest_side`]), and one of them must be off the creases.
 //!   In the fans of a CAD export, which have no vertex inside a face, crest lines through a
 //!   face interpolate the one-sided estimates of its boundary and say nothing about the face;
 //! - crest lines are cut within three rings (three times the mean length of its edges) of a
@@ -26,9 +26,10 @@
 //! strengths are scaled to the part kept (T = ∫ds·∫C ds by the square of the length ratio,
 //! ∫|k|ds by the ratio).
 
-use super::crease::{Creases, widest_side};
+use super::crease::Creases;
 use super::{FeatureLine, FeatureLines, SurfacePoint};
 use crate::error::{Error, Result};
+use crate::mesh::widest_side;
 use crate::mesh::{TriMesh, Vec3};
 use crate::spatial::PointGrid;
 

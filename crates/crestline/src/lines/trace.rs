@@ -18,6 +18,7 @@
 use rayon::prelude::*;
 
 use crate::curvature::Curvature;
+use crate::curvature::extremality::consistent_signs;
 use crate::mesh::{TriMesh, Vec3};
 
 use super::LineKind;
@@ -97,17 +98,6 @@ impl<'a> Family<'a> {
         let eb = self.relative_sign(a, b) * self.e[b as usize];
         ((ea >= 0.0) != (eb >= 0.0)).then(|| (ea / (ea - eb)).clamp(END_MARGIN, 1.0 - END_MARGIN))
     }
-}
-
-/// Signs making the three directions mutually positive (HPW Definition 1), or `None` when
-/// the triangle is singular. The first sign is always `+1`.
-#[inline]
-pub fn consistent_signs(d: [Vec3; 3]) -> Option<[f64; 3]> {
-    let d01 = d[0].dot(&d[1]);
-    let d02 = d[0].dot(&d[2]);
-    let s1 = if d01 < 0.0 { -1.0 } else { 1.0 };
-    let s2 = if d02 < 0.0 { -1.0 } else { 1.0 };
-    (d01 != 0.0 && d02 != 0.0 && s1 * s2 * d[1].dot(&d[2]) > 0.0).then_some([1.0, s1, s2])
 }
 
 /// Segments of one family: per-face regularity and the feature segments found.
@@ -243,20 +233,6 @@ pub fn node_position(mesh: &TriMesh, family: &Family<'_>, node: Node) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn consistent_signs_detects_singular_triangles() {
-        let x = Vec3::x();
-        let y = Vec3::y();
-        let d = |a: f64| Vec3::new(a.cos(), a.sin(), 0.0);
-        assert_eq!(consistent_signs([x, x, x]), Some([1.0, 1.0, 1.0]));
-        assert_eq!(consistent_signs([x, -x, x]), Some([1.0, -1.0, 1.0]));
-        // Three line directions 60° apart cannot be put in one half-plane-cone pairwise.
-        let third = std::f64::consts::PI / 3.0;
-        assert_eq!(consistent_signs([d(0.0), d(third), d(2.0 * third)]), None);
-        assert!(consistent_signs([d(0.0), d(0.3), d(0.6)]).is_some());
-        assert_eq!(consistent_signs([x, y, x]), None);
-    }
 
     #[test]
     fn crossing_is_the_same_from_both_ends() {

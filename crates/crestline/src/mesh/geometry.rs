@@ -74,6 +74,21 @@ pub fn face_normals(mesh: &TriMesh) -> Vec<Vec3> {
         .collect()
 }
 
+/// Unit normal and area of face `f` from one cross product (zero normal for a face made
+/// degenerate by [`TriMesh::with_positions`]).
+#[inline]
+pub fn face_normal_and_area(mesh: &TriMesh, f: usize) -> (Vec3, f64) {
+    let [a, b, c] = mesh.triangle(f);
+    let cross = (b - a).cross(&(c - a));
+    let norm = cross.norm();
+    let normal = if norm > 0.0 {
+        cross / norm
+    } else {
+        Vec3::zeros()
+    };
+    (normal, 0.5 * norm)
+}
+
 /// Face areas.
 pub fn face_areas(mesh: &TriMesh) -> Vec<f64> {
     (0..mesh.num_faces())

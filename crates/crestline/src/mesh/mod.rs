@@ -14,15 +14,18 @@
 mod geometry;
 mod info;
 mod orient;
+mod sides;
 mod subdivide;
 mod topology;
 
 pub use geometry::{
-    BoundingBox, face_areas, face_normals, mean_edge_length, star_areas, vertex_normals_area,
-    vertex_normals_max,
+    BoundingBox, face_areas, face_normal_and_area, face_normals, mean_edge_length, star_areas,
+    vertex_normals_area, vertex_normals_max,
 };
 pub use info::MeshInfo;
 pub use orient::{Orientation, orient_outward, orientation, signed_volume};
+pub(crate) use sides::corner_angle;
+pub use sides::{SIDE_TIE, widest_side};
 pub use subdivide::{SubdivideOptions, loop_subdivide};
 pub use topology::{EdgeKind, Topology, VertexKind};
 

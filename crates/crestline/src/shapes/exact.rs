@@ -276,8 +276,7 @@ pub fn compare(
 /// boundary-adjacent vertices from comparisons.
 pub fn rings_from_boundary(mesh: &crate::mesh::TriMesh) -> Vec<u32> {
     let topo = mesh.topology();
-    let mut dist = vec![u32::MAX; mesh.num_vertices()];
-    let mut frontier: Vec<u32> = (0..mesh.num_vertices() as u32)
+    let seeds: Vec<u32> = (0..mesh.num_vertices() as u32)
         .filter(|&v| {
             matches!(
                 topo.vertex_kind(v),
@@ -285,9 +284,18 @@ pub fn rings_from_boundary(mesh: &crate::mesh::TriMesh) -> Vec<u32> {
             )
         })
         .collect();
-    for &v in &frontier {
+    rings_from(mesh, &seeds)
+}
+
+/// Graph distance (in edges) from every vertex to the nearest of `seeds` (`u32::MAX` where
+/// none is reached): the k-rings around them, breadth first.
+pub fn rings_from(mesh: &crate::mesh::TriMesh, seeds: &[u32]) -> Vec<u32> {
+    let topo = mesh.topology();
+    let mut dist = vec![u32::MAX; mesh.num_vertices()];
+    for &v in seeds {
         dist[v as usize] = 0;
     }
+    let mut frontier = seeds.to_vec();
     let mut level = 0;
     while !frontier.is_empty() {
         level += 1;

@@ -112,6 +112,21 @@ pub enum MaskRegion {
 }
 
 impl DiffusionMask {
+    /// `factors` (per vertex; `None` for 1 everywhere) times the regions' factors where they
+    /// contain the vertex: the regions' factors alone without `factors`, `factors` unchanged
+    /// without regions. For [`ExtremalitySmoothing::diffusion`]: a file's factors with
+    /// regions on top.
+    pub fn apply(&self, mesh: &TriMesh, factors: Option<Vec<f64>>) -> Option<Vec<f64>> {
+        if self.regions.is_empty() {
+            return factors;
+        }
+        let scale = self.factors(mesh);
+        Some(match factors {
+            Some(f) => f.iter().zip(&scale).map(|(a, b)| a * b).collect(),
+            None => scale,
+        })
+    }
+
     /// Per-vertex factors: 1 outside every region.
     pub fn factors(&self, mesh: &TriMesh) -> Vec<f64> {
         mesh.positions()

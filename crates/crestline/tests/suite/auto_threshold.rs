@@ -10,9 +10,10 @@
 
 use crate::common;
 
-use crestline::extract::{ExtractOptions, Extraction, Method, extract};
+use crestline::extract::{ExtractOptions, Extraction, Method, MwzOptions, extract};
 use crestline::lines::FeatureLines;
 use crestline::spatial::PointGrid;
+use crestline::threshold::Threshold;
 use crestline::{TriMesh, Vec3, shapes};
 
 /// Fandisk from the shared meshes (the test fails when they are missing: CI has them).
@@ -90,10 +91,7 @@ fn fit(mesh: &TriMesh, lines: &FeatureLines) -> Fit {
 }
 
 fn run(mesh: &TriMesh, method: Method) -> Extraction {
-    let options = ExtractOptions {
-        auto_threshold: true,
-        ..ExtractOptions::for_method(method)
-    };
+    let options = ExtractOptions::for_method(method).with_automatic_threshold();
     extract(mesh, &options).unwrap()
 }
 
@@ -102,10 +100,7 @@ fn run(mesh: &TriMesh, method: Method) -> Extraction {
 /// length at most 1.5 times the crease length. Returns the fit.
 fn check_fandisk(name: &str, options: &ExtractOptions, max_flat: f64) -> Fit {
     let mesh = fandisk();
-    let options = ExtractOptions {
-        auto_threshold: true,
-        ..options.clone()
-    };
+    let options = options.clone().with_automatic_threshold();
     let result = extract(&mesh, &options).unwrap();
     let s = &result.stats;
     // With crease curves (issue 20) the default YBS lines on fandisk are the creases, all
@@ -140,10 +135,8 @@ fn check_fandisk(name: &str, options: &ExtractOptions, max_flat: f64) -> Fit {
 /// The fit of `options` with the fixed threshold (the floor of the automatic one).
 fn fixed_fit(options: &ExtractOptions) -> Fit {
     let mesh = fandisk();
-    let options = ExtractOptions {
-        auto_threshold: false,
-        ..options.clone()
-    };
+    let floor = options.pipeline.threshold().floor();
+    let options = options.clone().with_threshold(Threshold::Fixed(floor));
     fit(&mesh, &extract(&mesh, &options).unwrap().lines)
 }
 
@@ -192,8 +185,12 @@ fn saliency_knee_separates_fandisks_crease_vertices_from_its_flat_ones() {
     let mut options = ExtractOptions::for_method(Method::Saliency);
     options.curvature.estimator = crestline::curvature::Estimator::CubicFit;
     let curvature = crestline::curvature::estimate(&mesh, &options.curvature).unwrap();
-    let s = crestline::saliency::mesh_saliency(&mesh, &curvature, &options.saliency).unwrap();
-    let t = crestline::threshold::seek_threshold(&s.saliency, &options.knee).unwrap();
+    let mwz = MwzOptions::default();
+    let s = crestline::saliency::mesh_saliency(&mesh, &curvature, &mwz.saliency).unwrap();
+    let Threshold::Knee { search, .. } = mwz.threshold else {
+        panic!("the saliency method's default threshold is a knee search")
+    };
+    let t = crestline::threshold::seek_threshold(&s.saliency, &search).unwrap();
     let diagonal = mesh.bounding_box().diagonal();
     let far = 0.03 * diagonal;
     let features = sample(creases(&mesh, 10.0).into_iter(), 0.25 * far);
@@ -256,23 +253,23 @@ fn sphere_and_torus_have_almost_no_lines_with_automatic_thresholds() {
 #[test]
 fn ybs_runs_with_the_automatic_threshold_by_default_and_a_number_overrides_it() {
     let ybs = ExtractOptions::for_method(Method::Ybs);
-    assert!(ybs.auto_threshold);
-    assert!(!ExtractOptions::for_method(Method::Hpw).auto_threshold);
-    assert!(ExtractOptions::for_method(Method::Saliency).auto_threshold);
+    let auto = |method| {
+        ExtractOptions::for_method(method)
+            .pipeline
+            .threshold()
+            .is_auto()
+    };
+    assert!(auto(Method::Ybs));
+    assert!(!auto(Method::Hpw));
+    assert!(auto(Method::Saliency));
     // On a shape with a knee (the pillow box: 12 crease lines and weaker lines on its
     // curved faces) the automatic threshold is at least the fixed floor.
     let (mesh, _) = shapes::pillow_box(1.0, 0.25, 40);
     let auto = extract(&mesh, &ybs).unwrap();
-    assert!(auto.stats.threshold >= ybs.filter.threshold);
-    let fixed = extract(
-        &mesh,
-        &ExtractOptions {
-            auto_threshold: false,
-            ..ybs.clone()
-        },
-    )
-    .unwrap();
+    let floor = ybs.pipeline.threshold().floor();
+    assert!(auto.stats.threshold >= floor);
+    let fixed = extract(&mesh, &ybs.clone().with_threshold(Threshold::Fixed(floor))).unwrap();
     assert!(!fixed.stats.threshold_is_auto);
-    assert_eq!(fixed.stats.threshold, ybs.filter.threshold);
+    assert_eq!(fixed.stats.threshold, floor);
     assert!(auto.stats.lines <= fixed.stats.lines);
 }

@@ -183,26 +183,28 @@ fn diffusion_mask_files() {
     };
     assert_eq!(mask(b"1 0.5\n# c\n0\n", 3).unwrap(), vec![1.0, 0.5, 0.0]);
     assert_eq!(mask(&with_bom("1\r\n2\r\n"), 2).unwrap(), vec![1.0, 2.0]);
-    assert_eq!(
-        mask(b"", 2).unwrap_err(),
-        "m.txt: file: 0 factors for a mesh of 2 vertices"
-    );
-    assert_eq!(
-        mask(b"1\n2\n3\n", 2).unwrap_err(),
-        "m.txt: line 3: more factors than the 2 vertices of the mesh"
-    );
-    assert_eq!(
-        mask(b"1\nnan\n", 2).unwrap_err(),
-        "m.txt: line 2: factor 'nan' must be a finite number >= 0"
-    );
-    assert_eq!(
-        mask(b"1\n-2\n", 2).unwrap_err(),
-        "m.txt: line 2: factor '-2' must be a finite number >= 0"
-    );
-    assert_eq!(
-        mask(b"1\n\xff\n", 2).unwrap_err(),
-        "m.txt: line 2: non-numeric token '\u{fffd}' where a factor was expected"
-    );
+    let errors: [(&[u8], &str); 5] = [
+        (b"", "m.txt: file: 0 factors for a mesh of 2 vertices"),
+        (
+            b"1\n2\n3\n",
+            "m.txt: line 3: more factors than the 2 vertices of the mesh",
+        ),
+        (
+            b"1\nnan\n",
+            "m.txt: line 2: factor 'nan' must be a finite number >= 0",
+        ),
+        (
+            b"1\n-2\n",
+            "m.txt: line 2: factor '-2' must be a finite number >= 0",
+        ),
+        (
+            b"1\n\xff\n",
+            "m.txt: line 2: non-numeric token '\u{fffd}' where a factor was expected",
+        ),
+    ];
+    for (text, expected) in errors {
+        assert_eq!(mask(text, 2).unwrap_err(), expected);
+    }
 }
 
 // ---------------------------------------------------------------------------------------

@@ -285,6 +285,17 @@ impl Builder {
     fn mesh(&self) -> TriMesh {
         TriMesh::new(self.positions.clone(), self.faces.clone()).unwrap()
     }
+
+    /// The solid built, with its exact sharp edges and corners.
+    fn solid(&self, name: String, sharp: Vec<(Vec<Vec3>, bool)>, corners: Vec<Vec3>) -> Solid {
+        Solid {
+            name,
+            mesh: self.mesh(),
+            planar: self.planar.clone(),
+            sharp,
+            corners,
+        }
+    }
 }
 
 fn plane_basis(n: Vec3) -> (Vec3, Vec3) {
@@ -469,6 +480,23 @@ fn lift(p: [f64; 2], z: f64) -> Vec3 {
     Vec3::new(p[0], p[1], z)
 }
 
+/// The vertical sharp edges from `z0` to `z1` at the profile corners `corners`, pushed onto
+/// `sharp`; returns their ends, the solid's corners.
+fn vertical_edges(
+    corners: &[[f64; 2]],
+    z0: f64,
+    z1: f64,
+    sharp: &mut Vec<(Vec<Vec3>, bool)>,
+) -> Vec<Vec3> {
+    let mut ends = Vec::new();
+    for &c in corners {
+        sharp.push((vec![lift(c, z0), lift(c, z1)], false));
+        ends.push(lift(c, z0));
+        ends.push(lift(c, z1));
+    }
+    ends
+}
+
 /// Radially outward from the z axis through `centre`.
 fn radial(centre: [f64; 2]) -> impl Fn(Vec3) -> Vec3 {
     move |p: Vec3| Vec3::new(p.x - centre[0], p.y - centre[1], 0.0)
@@ -496,19 +524,8 @@ fn prism(name: &str, profile: &Profile, height: f64, mode: Tessellation) -> Soli
         (profile.outline(0.0), true),
         (profile.outline(height), true),
     ];
-    let mut corners = Vec::new();
-    for &c in &corners_2d {
-        sharp.push((vec![lift(c, 0.0), lift(c, height)], false));
-        corners.push(lift(c, 0.0));
-        corners.push(lift(c, height));
-    }
-    Solid {
-        name: format!("{name} ({mode:?})"),
-        mesh: b.mesh(),
-        planar: b.planar.clone(),
-        sharp,
-        corners,
-    }
+    let corners = vertical_edges(&corners_2d, 0.0, height, &mut sharp);
+    b.solid(format!("{name} ({mode:?})"), sharp, corners)
 }
 
 pub(super) fn block(mode: Tessellation) -> Solid {
@@ -568,13 +585,11 @@ fn cone(mode: Tessellation) -> Solid {
     b.strip(&rim, &apex, true, &vec![false; n], &|p: Vec3| {
         Vec3::new(p.x, p.y, 0.0).normalize() * height + Vec3::z() * r
     });
-    Solid {
-        name: format!("cone ({mode:?})"),
-        mesh: b.mesh(),
-        planar: b.planar.clone(),
-        sharp: vec![(Profile::circle(r).outline(0.0), true)],
-        corners: Vec::new(),
-    }
+    b.solid(
+        format!("cone ({mode:?})"),
+        vec![(Profile::circle(r).outline(0.0), true)],
+        Vec::new(),
+    )
 }
 
 /// A box [-1, 1]² × [0, 0.6] with a cylinder of radius 0.5 standing on it up to z = 1.5.
@@ -623,19 +638,8 @@ fn box_cylinder_union(mode: Tessellation) -> Solid {
         (Profile::circle(r).outline(z_box), true),
         (Profile::circle(r).outline(z_top), true),
     ];
-    let mut corners = Vec::new();
-    for c in square_profile.corners() {
-        sharp.push((vec![lift(c, 0.0), lift(c, z_box)], false));
-        corners.push(lift(c, 0.0));
-        corners.push(lift(c, z_box));
-    }
-    Solid {
-        name: format!("box-cylinder union ({mode:?})"),
-        mesh: b.mesh(),
-        planar: b.planar.clone(),
-        sharp,
-        corners,
-    }
+    let corners = vertical_edges(&square_profile.corners(), 0.0, z_box, &mut sharp);
+    b.solid(format!("box-cylinder union ({mode:?})"), sharp, corners)
 }
 
 pub(super) fn solids() -> Vec<Solid> {

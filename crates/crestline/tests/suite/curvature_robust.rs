@@ -41,24 +41,10 @@ fn awkward_meshes() -> Vec<(&'static str, TriMesh)> {
     ];
     let components_faces = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [4, 5, 6]];
     // An octahedron with one flipped face.
-    let octa = vec![
-        [1.0, 0.0, 0.0],
-        [-1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, -1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [0.0, 0.0, -1.0],
-    ];
-    let octa_faces = vec![
-        [0, 2, 4],
-        [1, 2, 4],
-        [1, 3, 4],
-        [3, 0, 4],
-        [2, 0, 5],
-        [1, 2, 5],
-        [3, 1, 5],
-        [0, 3, 5],
-    ];
+    let octahedron = shapes::octahedron();
+    let mut octa_faces = octahedron.faces().to_vec();
+    octa_faces[1].swap(0, 1);
+    let flipped = TriMesh::new(octahedron.positions().to_vec(), octa_faces).unwrap();
     // A sliver next to a normal triangle, and a folded pair (normals opposite).
     let sliver = vec![
         [0.0, 0.0, 0.0],
@@ -112,7 +98,7 @@ fn awkward_meshes() -> Vec<(&'static str, TriMesh)> {
             ),
         ),
         ("components", m(components, components_faces)),
-        ("flipped face", m(octa, octa_faces)),
+        ("flipped face", flipped),
         ("sliver", m(sliver, vec![[0, 1, 2], [1, 0, 3]])),
         ("folded", m(folded, vec![[0, 1, 2], [1, 0, 3]])),
         ("open cylinder", shapes::cylinder(1.0, 1.0, 6, 1)),
@@ -232,7 +218,7 @@ fn invalid_options_are_errors() {
 fn regular_triangles_on_analytic_shapes() {
     // Away from umbilics the directions vary slowly, so (almost) every triangle is regular;
     // on the torus (no umbilic) all of them.
-    use crestline::extremality::triangle_regularity;
+    use crestline::curvature::extremality::triangle_regularity;
     let m = shapes::torus_with(3.0, 1.0, 48, 16, GridPattern::Uniform);
     for c in [so(&m), cf(&m)] {
         let r = triangle_regularity(&m, &c);

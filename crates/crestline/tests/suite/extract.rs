@@ -7,8 +7,10 @@
 use crate::common;
 
 use common::{ELLIPSOID, check_deterministic_and_simple, check_ellipsoid, check_torus_is_empty};
-use crestline::extract::{ExtractOptions, Method};
+use crestline::extract::{ExtractOptions, HpwOptions, Method, Pipeline};
+use crestline::lines::filter::StrengthMeasure;
 use crestline::shapes;
+use crestline::threshold::Threshold;
 
 const A: f64 = ELLIPSOID[0];
 const B: f64 = ELLIPSOID[1];
@@ -31,11 +33,11 @@ fn torus_has_no_crest_lines_by_default() {
 fn output_is_deterministic_and_polylines_are_simple() {
     let mesh = shapes::ellipsoid(A, B, C, 4);
     let options = ExtractOptions {
-        filter: crestline::lines::filter::LineFilter {
-            threshold: 0.0,
-            min_length: 0.0,
-            ..Default::default()
-        },
+        pipeline: Pipeline::Hpw(HpwOptions {
+            threshold: Threshold::Fixed(0.0),
+            measure: StrengthMeasure::CurvatureIntegral,
+        }),
+        min_length: 0.0,
         ..ExtractOptions::default()
     };
     check_deterministic_and_simple(&mesh, &options, "HPW");

@@ -14,10 +14,10 @@ use common::{
     distance_to_lines,
 };
 use crestline::curvature::Curvature;
-use crestline::extract::{ExtractOptions, Method, extract};
-use crestline::lines::filter::LineFilter;
+use crestline::extract::{ExtractOptions, Method, Pipeline, YbsOptions, extract};
 use crestline::lines::gap::GapJumping;
 use crestline::lines::{FeatureLines, LineKind, trace_crest_lines};
+use crestline::threshold::{KneeSearch, Threshold};
 use crestline::{TriMesh, Vec3, shapes};
 
 fn ybs() -> ExtractOptions {
@@ -25,7 +25,7 @@ fn ybs() -> ExtractOptions {
 }
 
 /// YBS as published: no extremality smoothing (the default smooths, see `extract`'s docs).
-/// The automatic threshold stays on (set `auto_threshold = false` for a fixed T).
+/// The automatic threshold stays on (`with_threshold(Threshold::Fixed(t))` for a fixed T).
 fn ybs_as_published(rings: usize) -> ExtractOptions {
     let mut options = ybs();
     options.smoothing.steps = 0;
@@ -61,11 +61,14 @@ fn ybs_output_is_deterministic_and_polylines_are_simple() {
     let [a, b, c] = ELLIPSOID;
     let mesh = shapes::ellipsoid(a, b, c, 4);
     let mut options = ybs();
-    options.filter = LineFilter {
-        threshold: 0.0,
-        min_length: 0.0,
-        ..options.filter
-    };
+    options.pipeline = Pipeline::Ybs(YbsOptions {
+        threshold: Threshold::Knee {
+            floor: 0.0,
+            search: KneeSearch::for_strengths(),
+        },
+        ..YbsOptions::default()
+    });
+    options.min_length = 0.0;
     check_deterministic_and_simple(&mesh, &options, "YBS");
 }
 
@@ -101,9 +104,7 @@ fn raising_t_removes_the_lines_on_spherical_and_cylindrical_parts_but_keeps_the_
 
     // As in the paper's figure: the 3-ring fit, no extremality smoothing.
     let with_threshold = |threshold: f64| {
-        let mut options = ybs_as_published(3);
-        options.filter.threshold = threshold;
-        options.auto_threshold = false;
+        let options = ybs_as_published(3).with_threshold(Threshold::Fixed(threshold));
         extract(&mesh, &options).unwrap().lines
     };
     // Without a threshold, spurious lines cover the caps and the side (measured: 27 lines,

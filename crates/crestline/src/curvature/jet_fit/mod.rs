@@ -540,10 +540,10 @@ impl Context<'_> {
     }
 
     /// Puts into the disc the vertices (within `r2` of v, squared) of the widest side of
-    /// crease vertex `v` ([`crate::lines::crease::widest_side`]). Sets the side's area normal.
+    /// crease vertex `v` ([`crate::mesh::widest_side`]). Sets the side's area normal.
     fn seed_side(&self, v: u32, split: &Split<'_>, r2: f64, s: &mut Scratch) {
         let p = self.mesh.position(v);
-        let side = crate::lines::crease::widest_side(self.mesh, v, split.edges);
+        let side = crate::mesh::widest_side(self.mesh, v, split.edges);
         let stamp = s.stamp;
         for f in side {
             let [a, b, c] = self.mesh.triangle(f as usize);

@@ -101,9 +101,10 @@ impl Context<'_> {
         let stamp = next_stamp(&mut s.face_marks, &mut s.face_stamp, self.mesh.num_faces());
         s.faces.clear();
         match self.split {
-            Some(split) if split.vertices[v as usize] => s
-                .faces
-                .extend(crate::lines::crease::widest_side(self.mesh, v, split.edges)),
+            Some(split) if split.vertices[v as usize] => {
+                s.faces
+                    .extend(crate::mesh::widest_side(self.mesh, v, split.edges))
+            }
             _ => s.faces.extend_from_slice(topo.vertex_faces(v)),
         }
         for &f in &s.faces {

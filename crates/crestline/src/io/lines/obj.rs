@@ -6,7 +6,7 @@ use std::path::Path;
 use super::{GROUP_NAMES, class_counts, class_of, read_line};
 use crate::error::{Error, Result};
 use crate::io::text::{Lines, Source, Tokens, parse_i64, show, strip_bom, vertex};
-use crate::io::write_f64;
+use crate::io::{write_f64, write_xyz};
 use crate::lines::{FeatureLine, FeatureLines, LineKind};
 use crate::mesh::Vec3;
 
@@ -43,12 +43,7 @@ pub fn write_lines_obj<W: Write>(mut out: W, lines: &FeatureLines) -> std::io::R
             }
             for p in &line.points {
                 out.write_all(b"v ")?;
-                write_f64(&mut out, p.x)?;
-                out.write_all(b" ")?;
-                write_f64(&mut out, p.y)?;
-                out.write_all(b" ")?;
-                write_f64(&mut out, p.z)?;
-                out.write_all(b"\n")?;
+                write_xyz(&mut out, p)?;
             }
             out.write_all(b"# strength ")?;
             write_f64(&mut out, line.strength)?;

@@ -53,7 +53,7 @@ mod detect;
 #[cfg(test)]
 mod tests;
 
-pub use chain::{SIDE_TIE, chain_crease_edges, cone_points, drop_stray_curves, widest_side};
+pub use chain::{chain_crease_edges, cone_points, drop_stray_curves};
 pub use detect::{
     FLAT_ANGLE, MAX_CHORD_DEVIATION, MAX_FACET_TURN, dihedral_angles, gap_threshold, is_facet_edge,
 };

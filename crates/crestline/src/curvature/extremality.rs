@@ -14,14 +14,15 @@
 //! the crate's convention. (HPW's consistent orientation of the directions over a triangle
 //! or a regularized star matters later, when the zero set of e_i inside a triangle is traced
 //! — that needs the three e_i re-signed with consistently oriented directions; see
-//! [`consistent_signs`].) ∇κ_i(T) lies in the plane of T and `dir_i(p)` in the tangent plane
+//! [`consistent_signs`], which [`crate::lines::trace`] uses.) ∇κ_i(T) lies in the plane of T and `dir_i(p)` in the tangent plane
 //! of p; we take the plain 3D inner product, as the paper does.
 //!
 //! **Regularity (Definition 1).** A triangle is regular for family i when the signs of the
 //! three directions can be chosen so that their inner products are all positive. Fixing the
 //! first direction and choosing the others to agree with it, the remaining product is
-//! positive exactly when `⟨d₀,d₁⟩⟨d₁,d₂⟩⟨d₂,d₀⟩ > 0` ([`is_regular`]); a zero product is
-//! singular.
+//! positive exactly when `⟨d₀,d₁⟩⟨d₁,d₂⟩⟨d₂,d₀⟩ > 0` ([`consistent_signs`], [`is_regular`];
+//! the signs are compared rather than the product formed, which could underflow); a zero
+//! product is singular.
 //!
 //! **Limits.** At an umbilic the principal directions are arbitrary, so triangles near
 //! umbilics (and in noisy, nearly umbilic regions) come out singular: that is the point of
@@ -31,9 +32,8 @@
 
 use rayon::prelude::*;
 
-use crate::curvature::Curvature;
-use crate::curvature::shape_operator::face_normal_and_area;
-use crate::mesh::{TriMesh, Vec3};
+use super::Curvature;
+use crate::mesh::{TriMesh, Vec3, face_normal_and_area};
 
 /// Area times the gradient of the piecewise-linear interpolation of `(f₀, f₁, f₂)` over a
 /// triangle with unit normal `n` and corners `p`: `A ∇f = ½ n × Σ_j f_j (p_{j+2} − p_{j+1})`
@@ -44,13 +44,14 @@ fn area_gradient(n: Vec3, p: &[Vec3; 3], f: [f64; 3]) -> Vec3 {
     0.5 * n.cross(&rotated_sum)
 }
 
-/// Fills `curvature.e_max` and `curvature.e_min` (HPW eq. 4) from its curvatures and
-/// directions, vertex by vertex in parallel.
+/// Fills `curvature.e_max` and `curvature.e_min` by HPW eq. 4 from its curvatures and
+/// directions (the two families share one pass over the faces), vertex by vertex in
+/// parallel. Vertices with a zero-area star get 0.
 ///
 /// Each face's normal, area and gradients are recomputed at each of its three corners rather
-/// than stored (a per-face table would take 80 bytes per face, the largest transient of the
-/// curvature stage); the arithmetic is the same, so are the results.
-pub(crate) fn fill_extremalities(mesh: &TriMesh, curvature: &mut Curvature) {
+/// than stored (a per-face table would be the largest transient of the curvature stage); the
+/// arithmetic is the same, so are the results.
+pub fn compute_extremalities(mesh: &TriMesh, curvature: &mut Curvature) {
     let n = mesh.num_vertices();
     let faces = mesh.faces();
     let topo = mesh.topology();
@@ -92,46 +93,28 @@ pub(crate) fn fill_extremalities(mesh: &TriMesh, curvature: &mut Curvature) {
         });
 }
 
-/// The discrete extremality of HPW eq. 4 for one family: `k` the per-vertex principal
-/// curvature, `dir` its per-vertex unit direction (sign as stored). Runs in parallel.
-///
-/// Vertices with a zero-area star get 0.
-pub fn extremality(mesh: &TriMesh, k: &[f64], dir: &[Vec3]) -> Vec<f64> {
-    let mut curvature = Curvature {
-        k_max: k.to_vec(),
-        k_min: k.to_vec(),
-        dir_max: dir.to_vec(),
-        dir_min: dir.to_vec(),
-        ..Default::default()
-    };
-    fill_extremalities(mesh, &mut curvature);
-    curvature.e_max
-}
-
-/// Fills `curvature.e_max` and `curvature.e_min` by HPW eq. 4 from its curvatures and
-/// directions (the two families share one pass over the faces).
-pub fn compute_extremalities(mesh: &TriMesh, curvature: &mut Curvature) {
-    fill_extremalities(mesh, curvature);
-}
-
 #[inline]
 fn finite_or_zero(x: f64) -> f64 {
     if x.is_finite() { x } else { 0.0 }
 }
 
-/// HPW Definition 1: true when the signs of the three line directions can be chosen so that
-/// all three pairwise inner products are positive.
+/// HPW Definition 1: signs making the three line directions mutually positive (their
+/// pairwise inner products all > 0), or `None` when the triangle is singular. The first sign
+/// is always `+1`; the directions re-signed are consistently oriented over the triangle.
 #[inline]
-pub fn is_regular(d0: Vec3, d1: Vec3, d2: Vec3) -> bool {
-    d0.dot(&d1) * d1.dot(&d2) * d2.dot(&d0) > 0.0
+pub fn consistent_signs(d: [Vec3; 3]) -> Option<[f64; 3]> {
+    let d01 = d[0].dot(&d[1]);
+    let d02 = d[0].dot(&d[2]);
+    let s1 = if d01 < 0.0 { -1.0 } else { 1.0 };
+    let s2 = if d02 < 0.0 { -1.0 } else { 1.0 };
+    (d01 != 0.0 && d02 != 0.0 && s1 * s2 * d[1].dot(&d[2]) > 0.0).then_some([1.0, s1, s2])
 }
 
-/// Signs `[1, s₁, s₂]` that orient `d₁`, `d₂` consistently with `d₀` (positive inner products
-/// with it). In a regular triangle the re-signed directions are mutually consistent.
+/// HPW Definition 1: true when the three line directions can be oriented consistently
+/// ([`consistent_signs`] finds signs).
 #[inline]
-pub fn consistent_signs(d0: Vec3, d1: Vec3, d2: Vec3) -> [f64; 3] {
-    let sign = |d: Vec3| if d0.dot(&d) < 0.0 { -1.0 } else { 1.0 };
-    [1.0, sign(d1), sign(d2)]
+pub fn is_regular(d: [Vec3; 3]) -> bool {
+    consistent_signs(d).is_some()
 }
 
 /// Per-face regularity of the two principal direction fields (HPW Definition 1).
@@ -185,18 +168,9 @@ pub fn triangle_regularity(mesh: &TriMesh, curvature: &Curvature) -> TriangleReg
         .faces()
         .par_iter()
         .map(|t| {
-            let [a, b, c] = t.map(|v| v as usize);
             (
-                is_regular(
-                    curvature.dir_max[a],
-                    curvature.dir_max[b],
-                    curvature.dir_max[c],
-                ),
-                is_regular(
-                    curvature.dir_min[a],
-                    curvature.dir_min[b],
-                    curvature.dir_min[c],
-                ),
+                is_regular(t.map(|v| curvature.dir_max[v as usize])),
+                is_regular(t.map(|v| curvature.dir_min[v as usize])),
             )
         })
         .unzip();
@@ -225,6 +199,19 @@ mod tests {
     /// exact on every triangle.
     fn flat_grid() -> TriMesh {
         shapes::height_field(|_, _| 0.0, [-1.0, 1.0], [-1.0, 1.0], 6, 5)
+    }
+
+    /// HPW eq. 4 for one family: `k` and `dir` as both families' fields.
+    fn extremality(mesh: &TriMesh, k: &[f64], dir: &[Vec3]) -> Vec<f64> {
+        let mut curvature = Curvature {
+            k_max: k.to_vec(),
+            k_min: k.to_vec(),
+            dir_max: dir.to_vec(),
+            dir_min: dir.to_vec(),
+            ..Default::default()
+        };
+        compute_extremalities(mesh, &mut curvature);
+        curvature.e_max
     }
 
     #[test]
@@ -266,24 +253,31 @@ mod tests {
             let a = deg.to_radians();
             Vec3::new(a.cos(), a.sin(), 0.0)
         };
-        assert!(is_regular(x, at(10.0), at(-20.0)));
+        assert!(is_regular([x, at(10.0), at(-20.0)]));
         // Signs do not matter.
-        assert!(is_regular(-x, at(10.0), -at(-20.0)));
-        assert!(is_regular(x, at(170.0), at(200.0)));
+        assert!(is_regular([-x, at(10.0), -at(-20.0)]));
+        assert!(is_regular([x, at(170.0), at(200.0)]));
         // Three lines 60° apart (a trisector pattern): no consistent orientation.
-        assert!(!is_regular(x, at(60.0), at(120.0)));
-        assert!(!is_regular(x, -at(60.0), at(120.0)));
+        assert!(!is_regular([x, at(60.0), at(120.0)]));
+        assert!(!is_regular([x, -at(60.0), at(120.0)]));
         // An orthogonal pair is singular (zero product).
-        assert!(!is_regular(x, Vec3::y(), x));
-        let s = consistent_signs(x, at(170.0), at(200.0));
-        assert_eq!(s, [1.0, -1.0, -1.0]);
+        assert!(!is_regular([x, Vec3::y(), x]));
+        assert_eq!(consistent_signs([x, x, x]), Some([1.0, 1.0, 1.0]));
+        assert_eq!(consistent_signs([x, -x, x]), Some([1.0, -1.0, 1.0]));
+        assert_eq!(
+            consistent_signs([x, at(170.0), at(200.0)]),
+            Some([1.0, -1.0, -1.0])
+        );
+        // Three directions 120° apart: singular.
+        assert_eq!(consistent_signs([x, at(120.0), at(240.0)]), None);
+        assert!(consistent_signs([at(0.0), at(17.0), at(34.0)]).is_some());
     }
 
     #[test]
     fn regularity_counts() {
         let m = flat_grid();
         let n = m.num_vertices();
-        let mut c = crate::curvature::Curvature {
+        let mut c = Curvature {
             dir_max: vec![Vec3::x(); n],
             dir_min: vec![Vec3::y(); n],
             ..Default::default()

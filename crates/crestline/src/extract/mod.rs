@@ -67,210 +67,49 @@
 //! ([`crate::saliency`]), an automatic threshold on it ([`crate::threshold`]) and the linking
 //! rules ([`crate::lines::link`]).
 //!
-//! `auto_threshold` applies the knee search of [`crate::threshold`] to the saliency
+//! **Options** ([`ExtractOptions`], in `options.rs`): the method and its own steps' options
+//! are one [`Pipeline`] ([`HpwOptions`], [`YbsOptions`], [`MwzOptions`]); the steps every
+//! method runs (orientation, creases, pre-smoothing, curvature, extremality smoothing,
+//! minimum length, fairing, merge) are shared. Every length is a fraction of the bounding-box
+//! diagonal (see [`ExtractOptions`] for the units of the filter widths).
+//!
+//! **Thresholds** ([`crate::threshold::Threshold`]): fixed, or the knee search of
+//! [`crate::threshold`], a public step of its own ([`crate::threshold::choose_threshold`];
+//! for lines [`crate::lines::filter::choose_line_threshold`]). It applies to the saliency
 //! (Saliency, the paper's procedure) or to the strengths of the traced lines (HPW, YBS). For
-//! lines the fixed threshold `filter.threshold` becomes a noise floor: the search runs, on the
-//! log scale, over the lines that pass both it and the minimum length, and can only raise it.
-//! The floor is what keeps shapes without crest lines empty: T is dimensionless and the
-//! spurious lines of a sphere or a torus stay below 1 (measured: ≤ 0.52 on
-//! `icosphere(2, 5)`, ≤ 0.45 on `torus(3, 1, 120, 40)` with YBS), while among such lines a
-//! knee is easily found (their strengths span five orders of magnitude). When the strengths
-//! have no knee (all lines alike: the 12 edges of a cube, or no line above the floor) the
-//! floor stays; the saliency method keeps no point, since a flat saliency curve means a shape
-//! without salient parts (a sphere, a torus).
+//! lines the knee search has a floor: the search runs, on the log scale, over the lines that
+//! pass both it and the minimum length, and can only raise it. The floor is what keeps shapes
+//! without crest lines empty: T is dimensionless and the spurious lines of a sphere or a torus
+//! stay below 1 (measured: ≤ 0.52 on `icosphere(2, 5)`, ≤ 0.45 on `torus(3, 1, 120, 40)` with
+//! YBS), while among such lines a knee is easily found (their strengths span five orders of
+//! magnitude). When the strengths have no knee (all lines alike: the 12 edges of a cube, or no
+//! line above the floor) the floor stays; the saliency method keeps no point, since a flat
+//! saliency curve means a shape without salient parts (a sphere, a torus).
+
+mod options;
 
 use std::time::{Duration, Instant};
 
-use crate::curvature::{self, Curvature, CurvatureOptions, Estimator};
+pub use options::{
+    DEFAULT_MIN_LENGTH, ExtractOptions, HPW_DEFAULT_THRESHOLD, HpwOptions, Method, MwzOptions,
+    Pipeline, YBS_DEFAULT_SMOOTHING_STEPS, YBS_DEFAULT_THRESHOLD, YbsOptions,
+};
+
+use crate::curvature::{self, Curvature, Estimator};
 use crate::error::Result;
-use crate::lines::crease::{CreaseOptions, find_creases};
-use crate::lines::fair::{Fairing, fair_lines};
-use crate::lines::filter::{LineFilter, StrengthMeasure, filter_lines};
-use crate::lines::gap::GapJumping;
-use crate::lines::link::{LinkOptions, link_feature_points};
-use crate::lines::merge::{MergeOptions, merge_creases};
+use crate::lines::crease::find_creases;
+use crate::lines::fair::fair_lines;
+use crate::lines::filter::{LineFilter, StrengthMeasure, choose_line_threshold, filter_lines};
+use crate::lines::link::link_feature_points;
+use crate::lines::merge::merge_creases;
 use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
 };
 use crate::mesh::{Orientation, TriMesh, orient_outward, orientation};
-use crate::saliency::{SaliencyOptions, mesh_saliency};
-use crate::smoothing::extremality::{
-    ExtremalitySmoothing, smooth_extremalities, smooth_extremalities_split,
-};
-use crate::smoothing::surface::{SurfaceSmoothing, smooth_surface};
-use crate::threshold::{KneeSearch, seek_threshold};
-
-/// Which paper's pipeline runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Method {
-    /// Hildebrandt–Polthier–Wardetzky: shape operator, extremality smoothing.
-    #[default]
-    Hpw,
-    /// Yoshizawa–Belyaev–Seidel: enhanced cubic fitting, strength T.
-    Ybs,
-    /// Mao–Wang–Zhou: mesh saliency with an automatic threshold, linked feature points.
-    Saliency,
-}
-
-/// Options of [`extract`]. Every field has a documented default; [`ExtractOptions::for_method`]
-/// gives the defaults of each method.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ExtractOptions {
-    /// The pipeline. Default: [`Method::Hpw`].
-    pub method: Method,
-    /// Reverse the triangles of closed components that face inward (negative volume) before
-    /// anything else, so that ridges are not taken for valleys (see the module docs and
-    /// [`crate::mesh::orient_outward`]); `false` takes the winding as it
-    /// is. Default: true.
-    pub orient_outward: bool,
-    /// Step 1: surface pre-smoothing. Default: off (0 steps).
-    pub pre_smoothing: SurfaceSmoothing,
-    /// Curvature estimation; the estimator is set by the method (shape operator for HPW,
-    /// cubic fit for YBS). Default: [`CurvatureOptions::default`].
-    pub curvature: CurvatureOptions,
-    /// Step 3: extremality smoothing. Default (HPW): 2 steps of size 1 (relative), crease-aware;
-    /// (YBS): [`YBS_DEFAULT_SMOOTHING_STEPS`] steps of size 1, a deviation from the paper
-    /// (see the module docs; 0 steps is YBS as published); (Saliency): none.
-    pub smoothing: ExtremalitySmoothing,
-    /// Run the extremality smoothing only when the curvature estimate found the surface
-    /// noisy ([`Curvature::extremality_noise`] > 0; only the jet fit measures noise, so the
-    /// papers' estimators are always smoothed). On clean surfaces the jet fit has already
-    /// averaged over a disc, and smoothing again moves the zeros of the extremalities of small
-    /// features (measured on the public bumpy sphere: F1 0.92 → 0.22 at 5K faces, 0.99 →
-    /// 0.90 at 20K); on noisy ones it removes what noise the fit leaves. Default: true.
-    pub smooth_only_noisy: bool,
-    /// Step 6: thresholds. Default (HPW): T ≥ [`HPW_DEFAULT_THRESHOLD`], length ≥ 1% of the
-    /// diagonal; (YBS): T ≥ [`YBS_DEFAULT_THRESHOLD`] as the floor of the automatic threshold
-    /// (see `auto_threshold`), length ≥ 1%. HPW filter with the
-    /// curvature integral of Ohtake et al.; that measure cannot tell spurious lines on Dupin
-    /// cyclides (a torus: ∫|k| ds is large along any line there) from crest lines, while T,
-    /// built on the cyclideness, is ≈ 0 on them — so T is the default for both methods.
-    pub filter: LineFilter,
-    /// Step 7: spatial fairing. Default: off.
-    pub fairing: Fairing,
-    /// Gap jumping (YBS only); `None` turns it off. Default: YBS's angles.
-    pub gaps: Option<GapJumping>,
-    /// Saliency options (Saliency only). Default: [`SaliencyOptions::default`].
-    pub saliency: SaliencyOptions,
-    /// Feature-point linking (Saliency only). Default: [`LinkOptions::default`].
-    pub link: LinkOptions,
-    /// Choose the threshold by the knee search: for Saliency instead of `filter.threshold`,
-    /// for HPW and YBS above it (see the module docs). Default: true for YBS and Saliency,
-    /// false for HPW.
-    ///
-    /// Why (measured on the shared meshes, table in BENCHMARKS.md): YBS's fixed T ≥ 1 keeps
-    /// hundreds of weak lines on scanned meshes (igea 576 lines, 46 diagonals long) and a
-    /// few on fandisk's flat faces; the knee keeps the salient ones (igea 137, 22 diagonals;
-    /// fandisk's creases all kept) and keeps spheres and tori empty. For HPW the knee cleans
-    /// scans as well (igea 659 → 206 lines) but on CAD meshes it drops crease pieces (fandisk:
-    /// T = 5.55, crease coverage 95.9% → 89.5%), so HPW keeps its fixed threshold; use `auto`
-    /// for scans.
-    pub auto_threshold: bool,
-    /// The knee search. Default: [`KneeSearch::default`] (the paper's) for Saliency,
-    /// [`KneeSearch::for_strengths`] for HPW and YBS.
-    pub knee: KneeSearch,
-    /// Sharp creases ([`crate::lines::crease`]), found before anything else on the mesh as
-    /// given: the curvature fits and the extremality smoothing do not reach across them, and
-    /// they join the lines at the end. Default: [`CreaseOptions::default`] (threshold from the
-    /// gap in the dihedral angles; none on meshes without such a gap) for every method.
-    pub creases: CreaseOptions,
-    /// How crease curves and crest lines are merged ([`crate::lines::merge`]). Default:
-    /// [`MergeOptions::default`].
-    pub merge: MergeOptions,
-}
-
-/// Default threshold of the HPW pipeline on T (dimensionless). Measured: spurious lines on a
-/// torus have T ≈ 0.01, the ellipsoid's crest line T ≈ 40, fandisk's creases T ≈ 2 to 13.
-pub const HPW_DEFAULT_THRESHOLD: f64 = 1.0;
-/// Default threshold of the YBS pipeline on T (dimensionless, as in the paper's figures):
-/// the floor of its automatic threshold, and the threshold when the strengths have no knee.
-pub const YBS_DEFAULT_THRESHOLD: f64 = 1.0;
-/// Default minimum line length, as a fraction of the bounding-box diagonal.
-pub const DEFAULT_MIN_LENGTH: f64 = 0.01;
-/// Default number of sign-aware extremality smoothing steps of the YBS pipeline (the paper
-/// has none; see the module docs for why and what it costs).
-pub const YBS_DEFAULT_SMOOTHING_STEPS: usize = 2;
-
-impl ExtractOptions {
-    /// The defaults of a method.
-    pub fn for_method(method: Method) -> Self {
-        match method {
-            Method::Hpw => ExtractOptions {
-                method,
-                orient_outward: true,
-                pre_smoothing: SurfaceSmoothing::default(),
-                curvature: CurvatureOptions::default().with_estimator(Estimator::JetFit),
-                smooth_only_noisy: true,
-                smoothing: ExtremalitySmoothing::default(),
-                filter: LineFilter {
-                    measure: StrengthMeasure::Cyclideness,
-                    threshold: HPW_DEFAULT_THRESHOLD,
-                    min_length: DEFAULT_MIN_LENGTH,
-                },
-                fairing: Fairing::default(),
-                gaps: Some(GapJumping::default()),
-                saliency: SaliencyOptions::default(),
-                link: LinkOptions::default(),
-                auto_threshold: false,
-                knee: KneeSearch::for_strengths(),
-                creases: CreaseOptions::DEFAULT,
-                merge: MergeOptions::DEFAULT,
-            },
-            Method::Ybs => ExtractOptions {
-                method,
-                orient_outward: true,
-                pre_smoothing: SurfaceSmoothing::default(),
-                curvature: CurvatureOptions::default().with_estimator(Estimator::JetFit),
-                smooth_only_noisy: true,
-                smoothing: ExtremalitySmoothing {
-                    steps: YBS_DEFAULT_SMOOTHING_STEPS,
-                    ..Default::default()
-                },
-                filter: LineFilter {
-                    measure: StrengthMeasure::Cyclideness,
-                    threshold: YBS_DEFAULT_THRESHOLD,
-                    min_length: DEFAULT_MIN_LENGTH,
-                },
-                fairing: Fairing::default(),
-                gaps: Some(GapJumping::default()),
-                saliency: SaliencyOptions::default(),
-                link: LinkOptions::default(),
-                auto_threshold: true,
-                knee: KneeSearch::for_strengths(),
-                creases: CreaseOptions::DEFAULT,
-                merge: MergeOptions::DEFAULT,
-            },
-            Method::Saliency => ExtractOptions {
-                auto_threshold: true,
-                knee: KneeSearch::default(),
-                // The jet fit, as for HPW and YBS: the feature points are crest points, and
-                // the cubic fit's extremalities put them off the lines wherever the mesh is
-                // irregular (quality cases: mean F1 0.46 against 0.88).
-                curvature: CurvatureOptions::default().with_estimator(Estimator::JetFit),
-                smooth_only_noisy: true,
-                smoothing: ExtremalitySmoothing::default(),
-                filter: LineFilter {
-                    measure: StrengthMeasure::CurvatureIntegral,
-                    threshold: 0.0,
-                    min_length: DEFAULT_MIN_LENGTH,
-                },
-                ..Self::for_method(Method::Ybs)
-            }
-            .with_method(Method::Saliency),
-        }
-    }
-
-    fn with_method(mut self, method: Method) -> Self {
-        self.method = method;
-        self
-    }
-}
-
-impl Default for ExtractOptions {
-    fn default() -> Self {
-        Self::for_method(Method::Hpw)
-    }
-}
+use crate::saliency::mesh_saliency;
+use crate::smoothing::extremality::{smooth_extremalities, smooth_extremalities_split};
+use crate::smoothing::surface::smooth_surface;
+use crate::threshold::{ChosenThreshold, choose_threshold};
 
 /// The named stages, for progress reports and timings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -369,7 +208,7 @@ pub struct Extraction {
 }
 
 /// Finds the feature lines of `mesh`: ridges, valleys and sharp creases, by the pipeline of
-/// `options.method` (see the module docs for the steps), without progress reports.
+/// `options.pipeline` (see the module docs for the steps), without progress reports.
 ///
 /// The mesh is taken as given except that closed components facing inward are reversed
 /// first ([`ExtractOptions::orient_outward`]). Degenerate triangles, boundaries and
@@ -454,10 +293,12 @@ pub fn extract_with_progress(
 
     let t = clock.begin(Stage::Tracing);
     let diagonal = mesh.bounding_box().diagonal();
-    let mut filter = options.filter;
-    let mut traced = trace_by_method(surface, &curvature, options, &mut filter, &mut stats)?;
+    let mut traced = trace_by_method(surface, &curvature, &options.pipeline, &mut stats)?;
     clock.end(Stage::Tracing, t);
-    if let (Method::Ybs, Some(gaps)) = (options.method, options.gaps.as_ref()) {
+    if let Pipeline::Ybs(YbsOptions {
+        gaps: Some(gaps), ..
+    }) = &options.pipeline
+    {
         let t = clock.begin(Stage::GapJumping);
         stats.gaps_jumped = jump_crest_gaps(surface, &curvature, &mut traced, gaps);
         clock.end(Stage::GapJumping, t);
@@ -465,15 +306,13 @@ pub fn extract_with_progress(
     stats.lines_traced = traced.lines.len();
 
     let t = clock.begin(Stage::Filtering);
-    if options.method != Method::Saliency {
-        choose_line_threshold(&traced, options, &mut filter, diagonal, &mut stats);
-    }
+    let filter = line_filter(&traced, options, diagonal, &mut stats);
     let mut lines = filter_lines(traced, &filter, diagonal);
     clock.end(Stage::Filtering, t);
 
     if options.fairing.tolerance > 0.0 {
         let t = clock.begin(Stage::Fairing);
-        fair_lines(&mut lines, &options.fairing);
+        fair_lines(&mut lines, &options.fairing, diagonal);
         clock.end(Stage::Fairing, t);
     }
     if !creases.is_empty() {
@@ -515,70 +354,73 @@ fn orient_if_inward(
 }
 
 /// Traces the candidate lines of the chosen method: HPW's regular and singular triangles,
-/// YBS's edge-based crest lines, or the saliency method's linked feature points.
+/// YBS's edge-based crest lines, or the saliency method's linked feature points (whose
+/// threshold on the saliency is chosen here, [`choose_threshold`]).
 fn trace_by_method(
     surface: &TriMesh,
     curvature: &Curvature,
-    options: &ExtractOptions,
-    filter: &mut LineFilter,
+    pipeline: &Pipeline,
     stats: &mut ExtractStats,
 ) -> Result<FeatureLines> {
-    Ok(match options.method {
-        Method::Hpw => {
+    Ok(match pipeline {
+        Pipeline::Hpw(_) => {
             let (traced, report) = trace_lines(surface, curvature);
             stats.trace = report;
             traced
         }
-        Method::Ybs => trace_crest_lines(surface, curvature, None).0,
-        Method::Saliency => {
-            let saliency = mesh_saliency(surface, curvature, &options.saliency)?;
-            let threshold = if options.auto_threshold {
-                let knee = seek_threshold(&saliency.saliency, &options.knee);
-                stats.threshold_is_auto = knee.is_some();
-                knee.unwrap_or(f64::INFINITY)
-            } else {
-                options.filter.threshold
-            };
-            stats.threshold = threshold;
-            // The threshold applies to points here; the linking applies the strength floor
-            // (`LinkOptions::min_strength`), the filter below only the length.
-            filter.threshold = f64::NEG_INFINITY;
+        Pipeline::Ybs(_) => trace_crest_lines(surface, curvature, None).0,
+        Pipeline::Saliency(mwz) => {
+            let saliency = mesh_saliency(surface, curvature, &mwz.saliency)?;
+            // No knee: a flat saliency curve, a shape without salient parts; no point.
+            let chosen = choose_threshold(&saliency.saliency, &mwz.threshold, f64::INFINITY);
+            record_threshold(chosen, stats);
             link_feature_points(
                 surface,
                 curvature,
                 &saliency.saliency,
-                threshold,
-                &options.link,
+                chosen.value,
+                &mwz.link,
             )
         }
     })
 }
 
-/// Sets the strength threshold T of the line filter (HPW and YBS): the knee of the traced
-/// lines' strengths when `auto_threshold` is on, never below the given floor.
-fn choose_line_threshold(
+/// The line filter of step 6: the method's strength threshold (HPW and YBS: fixed, or the
+/// knee of the traced lines' strengths, [`choose_line_threshold`]) and the minimum length.
+/// The saliency method's threshold applies to points, before linking, and the linking applies
+/// the strength floor ([`crate::lines::link::LinkOptions::min_strength`]): its lines are
+/// filtered by length only.
+fn line_filter(
     traced: &FeatureLines,
     options: &ExtractOptions,
-    filter: &mut LineFilter,
     diagonal: f64,
     stats: &mut ExtractStats,
-) {
-    if options.auto_threshold {
-        // The candidates: lines that pass the floor and the length filter.
-        let min_length = filter.min_length * diagonal;
-        let strengths: Vec<f64> = traced
-            .lines
-            .iter()
-            .filter(|l| l.length >= min_length)
-            .map(|l| filter.measure.of(l))
-            .filter(|&t| t >= filter.threshold)
-            .collect();
-        if let Some(knee) = seek_threshold(&strengths, &options.knee) {
-            filter.threshold = filter.threshold.max(knee);
-            stats.threshold_is_auto = true;
+) -> LineFilter {
+    let (measure, threshold) = match &options.pipeline {
+        Pipeline::Hpw(o) => (o.measure, &o.threshold),
+        Pipeline::Ybs(o) => (o.measure, &o.threshold),
+        Pipeline::Saliency(_) => {
+            return LineFilter {
+                measure: StrengthMeasure::CurvatureIntegral,
+                threshold: f64::NEG_INFINITY,
+                min_length: options.min_length,
+            };
         }
-    }
-    stats.threshold = filter.threshold;
+    };
+    let mut filter = LineFilter {
+        measure,
+        threshold: threshold.floor(),
+        min_length: options.min_length,
+    };
+    let chosen = choose_line_threshold(traced, &filter, diagonal, threshold);
+    record_threshold(chosen, stats);
+    filter.threshold = chosen.value;
+    filter
+}
+
+fn record_threshold(chosen: ChosenThreshold, stats: &mut ExtractStats) {
+    stats.threshold = chosen.value;
+    stats.threshold_is_auto = chosen.from_knee;
 }
 
 /// Fills the statistics' counts and lengths of the final lines.

@@ -1,0 +1,318 @@
+//! The options of [`extract`](super::extract): one type per method (the [`Pipeline`]) and the
+//! parts every method shares.
+
+use crate::curvature::{CurvatureOptions, Estimator};
+use crate::lines::crease::CreaseOptions;
+use crate::lines::fair::Fairing;
+pub use crate::lines::filter::HPW_DEFAULT_THRESHOLD;
+use crate::lines::filter::StrengthMeasure;
+use crate::lines::gap::GapJumping;
+use crate::lines::link::LinkOptions;
+use crate::lines::merge::MergeOptions;
+use crate::saliency::SaliencyOptions;
+use crate::smoothing::extremality::ExtremalitySmoothing;
+use crate::smoothing::surface::SurfaceSmoothing;
+use crate::threshold::{KneeSearch, Threshold};
+
+/// Which paper's pipeline runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Hildebrandt–Polthier–Wardetzky: shape operator, extremality smoothing.
+    #[default]
+    Hpw,
+    /// Yoshizawa–Belyaev–Seidel: enhanced cubic fitting, strength T.
+    Ybs,
+    /// Mao–Wang–Zhou: mesh saliency with an automatic threshold, linked feature points.
+    Saliency,
+}
+
+/// Default threshold of the YBS pipeline on T (dimensionless, as in the paper's figures):
+/// the floor of its automatic threshold, and the threshold when the strengths have no knee.
+pub const YBS_DEFAULT_THRESHOLD: f64 = 1.0;
+/// Default minimum line length, as a fraction of the bounding-box diagonal.
+pub const DEFAULT_MIN_LENGTH: f64 = 0.01;
+/// Default number of sign-aware extremality smoothing steps of the YBS pipeline (the paper
+/// has none; see the module docs of [`crate::extract`] for why and what it costs).
+pub const YBS_DEFAULT_SMOOTHING_STEPS: usize = 2;
+
+/// Options of the HPW pipeline's own steps: tracing in regular and singular triangles, then
+/// the strength threshold (step 6).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HpwOptions {
+    /// The threshold on the lines' strengths. Default: T ≥ [`HPW_DEFAULT_THRESHOLD`], fixed.
+    ///
+    /// Why fixed (measured on the shared meshes, table in BENCHMARKS.md): the knee cleans
+    /// scans (igea 659 → 206 lines) but on CAD meshes it drops crease pieces (fandisk:
+    /// T = 5.55, crease coverage 95.9% → 89.5%); [`HpwOptions::automatic`] for scans.
+    pub threshold: Threshold,
+    /// The strength the threshold applies to. Default: [`StrengthMeasure::Cyclideness`], T:
+    /// the curvature integral of Ohtake et al. that HPW filter with cannot tell spurious lines
+    /// on Dupin cyclides (a torus: ∫|k| ds is large along any line there) from crest lines,
+    /// while T, built on the cyclideness, is ≈ 0 on them.
+    pub measure: StrengthMeasure,
+}
+
+impl HpwOptions {
+    /// The defaults.
+    pub const DEFAULT: Self = HpwOptions {
+        threshold: Threshold::Fixed(HPW_DEFAULT_THRESHOLD),
+        measure: StrengthMeasure::Cyclideness,
+    };
+
+    /// The automatic threshold for line strengths: the knee of the strengths at or above
+    /// [`HPW_DEFAULT_THRESHOLD`], which stays the threshold when they have no knee.
+    pub fn automatic() -> Threshold {
+        Threshold::Knee {
+            floor: HPW_DEFAULT_THRESHOLD,
+            search: KneeSearch::for_strengths(),
+        }
+    }
+}
+
+impl Default for HpwOptions {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Options of the YBS pipeline's own steps: edge-based tracing, gap jumping and the strength
+/// threshold.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct YbsOptions {
+    /// The threshold on the lines' strengths. Default: the knee of the strengths at or above
+    /// T = [`YBS_DEFAULT_THRESHOLD`] ([`YbsOptions::automatic`]).
+    ///
+    /// Why (measured on the shared meshes, table in BENCHMARKS.md): YBS's fixed T ≥ 1 keeps
+    /// hundreds of weak lines on scanned meshes (igea 576 lines, 46 diagonals long) and a
+    /// few on fandisk's flat faces; the knee keeps the salient ones (igea 137, 22 diagonals;
+    /// fandisk's creases all kept) and keeps spheres and tori empty.
+    pub threshold: Threshold,
+    /// The strength the threshold applies to. Default: [`StrengthMeasure::Cyclideness`]
+    /// (YBS eq. 5).
+    pub measure: StrengthMeasure,
+    /// Gap jumping; `None` turns it off. Default: YBS's angles ([`GapJumping::default`]).
+    pub gaps: Option<GapJumping>,
+}
+
+impl YbsOptions {
+    /// The automatic threshold for line strengths: the knee of the strengths at or above
+    /// [`YBS_DEFAULT_THRESHOLD`], which stays the threshold when they have no knee.
+    pub fn automatic() -> Threshold {
+        Threshold::Knee {
+            floor: YBS_DEFAULT_THRESHOLD,
+            search: KneeSearch::for_strengths(),
+        }
+    }
+}
+
+impl Default for YbsOptions {
+    fn default() -> Self {
+        YbsOptions {
+            threshold: Self::automatic(),
+            measure: StrengthMeasure::Cyclideness,
+            gaps: Some(GapJumping::default()),
+        }
+    }
+}
+
+/// Options of the saliency pipeline's own steps (Mao, Wang, Zhou): the saliency field, its
+/// threshold and the linking of the feature points.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MwzOptions {
+    /// The saliency field. Default: [`SaliencyOptions::default`].
+    pub saliency: SaliencyOptions,
+    /// The threshold on the saliency: vertices above it are feature points. Default: the knee
+    /// of all the saliency values ([`MwzOptions::automatic`], the paper's procedure); when
+    /// they have no knee no vertex is a feature point (a flat saliency curve means a shape
+    /// without salient parts: a sphere, a torus).
+    pub threshold: Threshold,
+    /// Feature-point linking. Default: [`LinkOptions::default`].
+    pub link: LinkOptions,
+}
+
+impl MwzOptions {
+    /// The paper's automatic threshold: the knee of all the saliency values (no floor).
+    pub fn automatic() -> Threshold {
+        Threshold::Knee {
+            floor: f64::NEG_INFINITY,
+            search: KneeSearch::default(),
+        }
+    }
+}
+
+impl Default for MwzOptions {
+    fn default() -> Self {
+        MwzOptions {
+            saliency: SaliencyOptions::default(),
+            threshold: Self::automatic(),
+            link: LinkOptions::default(),
+        }
+    }
+}
+
+/// The method that runs, with the options of its own steps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Pipeline {
+    /// Hildebrandt–Polthier–Wardetzky.
+    Hpw(HpwOptions),
+    /// Yoshizawa–Belyaev–Seidel.
+    Ybs(YbsOptions),
+    /// Mao–Wang–Zhou (mesh saliency).
+    Saliency(MwzOptions),
+}
+
+impl Pipeline {
+    /// The method's defaults.
+    pub fn for_method(method: Method) -> Self {
+        match method {
+            Method::Hpw => Pipeline::Hpw(HpwOptions::default()),
+            Method::Ybs => Pipeline::Ybs(YbsOptions::default()),
+            Method::Saliency => Pipeline::Saliency(MwzOptions::default()),
+        }
+    }
+
+    /// Which method this is.
+    pub fn method(&self) -> Method {
+        match self {
+            Pipeline::Hpw(_) => Method::Hpw,
+            Pipeline::Ybs(_) => Method::Ybs,
+            Pipeline::Saliency(_) => Method::Saliency,
+        }
+    }
+
+    /// The threshold of the method: on the lines' strengths (HPW, YBS) or on the saliency.
+    pub fn threshold(&self) -> &Threshold {
+        match self {
+            Pipeline::Hpw(o) => &o.threshold,
+            Pipeline::Ybs(o) => &o.threshold,
+            Pipeline::Saliency(o) => &o.threshold,
+        }
+    }
+
+    /// Sets the threshold of the method.
+    pub fn set_threshold(&mut self, threshold: Threshold) {
+        match self {
+            Pipeline::Hpw(o) => o.threshold = threshold,
+            Pipeline::Ybs(o) => o.threshold = threshold,
+            Pipeline::Saliency(o) => o.threshold = threshold,
+        }
+    }
+
+    /// The method's automatic threshold ([`HpwOptions::automatic`],
+    /// [`YbsOptions::automatic`], [`MwzOptions::automatic`]).
+    pub fn automatic_threshold(&self) -> Threshold {
+        match self {
+            Pipeline::Hpw(_) => HpwOptions::automatic(),
+            Pipeline::Ybs(_) => YbsOptions::automatic(),
+            Pipeline::Saliency(_) => MwzOptions::automatic(),
+        }
+    }
+}
+
+impl Default for Pipeline {
+    fn default() -> Self {
+        Pipeline::Hpw(HpwOptions::default())
+    }
+}
+
+/// Options of [`extract`](super::extract): the method's own ([`Pipeline`]) and the steps every
+/// method runs. Every field has a documented default; [`ExtractOptions::for_method`] gives the
+/// defaults of each method.
+///
+/// **Units.** Every length of these options is a fraction of the mesh's bounding-box diagonal
+/// ([`ExtractOptions::min_length`], [`Fairing::tolerance`], the crease and merge distances of
+/// [`CreaseOptions`] and [`MergeOptions`]), so that the same options mean the same on a model
+/// in millimetres and in metres. Three scales are not lengths of the result but widths of
+/// the estimators' filters, and follow the mesh's resolution instead: the smoothing step sizes
+/// (squared mean edge lengths, [`ExtremalitySmoothing::time_step`],
+/// [`SurfaceSmoothing::time_step`]), the jet fit's radius (sample spacings,
+/// [`crate::curvature::JetFitOptions::radius`]) and the saliency's σ (mean edge lengths,
+/// [`SaliencyOptions::lambda`]). Strengths (T, ∫|k| ds) and the saliency are dimensionless.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExtractOptions {
+    /// The method and the options of its own steps. Default: [`Pipeline::Hpw`] with
+    /// [`HpwOptions::DEFAULT`].
+    pub pipeline: Pipeline,
+    /// Reverse the triangles of closed components that face inward (negative volume) before
+    /// anything else, so that ridges are not taken for valleys (see [`crate::extract`] and
+    /// [`crate::mesh::orient_outward`]); `false` takes the winding as it is. Default: true.
+    pub orient_outward: bool,
+    /// Sharp creases ([`crate::lines::crease`]), found before anything else on the mesh as
+    /// given: the curvature fits and the extremality smoothing do not reach across them, and
+    /// they join the lines at the end. Default: [`CreaseOptions::default`] (threshold from the
+    /// gap in the dihedral angles; none on meshes without such a gap) for every method.
+    pub creases: CreaseOptions,
+    /// Step 1: surface pre-smoothing. Default: off (0 steps).
+    pub pre_smoothing: SurfaceSmoothing,
+    /// Curvature estimation. Default: the jet fit ([`Estimator::JetFit`]) for every method,
+    /// a deliberate deviation from the papers (see [`crate::extract`]).
+    pub curvature: CurvatureOptions,
+    /// Step 3: sign-aware extremality smoothing, for every method (the saliency method's
+    /// feature points are crest points). Default: 2 steps of size 1 (relative), crease-aware
+    /// ([`ExtremalitySmoothing::default`]); for YBS [`YBS_DEFAULT_SMOOTHING_STEPS`], a
+    /// deviation from the paper (see [`crate::extract`]; 0 steps is YBS as published).
+    pub smoothing: ExtremalitySmoothing,
+    /// Run the extremality smoothing only when the curvature estimate found the surface
+    /// noisy ([`crate::curvature::Curvature::extremality_noise`] > 0; only the jet fit
+    /// measures noise, so the papers' estimators are always smoothed). On clean surfaces the
+    /// jet fit has already averaged over a disc, and smoothing again moves the zeros of the
+    /// extremalities of small features (measured on the public bumpy sphere: F1 0.92 → 0.22
+    /// at 5K faces, 0.99 → 0.90 at 20K); on noisy ones it removes what noise the fit leaves.
+    /// Default: true.
+    pub smooth_only_noisy: bool,
+    /// Lines shorter than this fraction of the bounding-box diagonal are dropped (HPW step 6,
+    /// for every method). Default: [`DEFAULT_MIN_LENGTH`].
+    pub min_length: f64,
+    /// Step 7: spatial fairing; its tolerance is a fraction of the bounding-box diagonal.
+    /// Default: off.
+    pub fairing: Fairing,
+    /// How crease curves and crest lines are merged ([`crate::lines::merge`]). Default:
+    /// [`MergeOptions::default`].
+    pub merge: MergeOptions,
+}
+
+impl ExtractOptions {
+    /// The defaults of a method.
+    pub fn for_method(method: Method) -> Self {
+        let mut smoothing = ExtremalitySmoothing::default();
+        if method == Method::Ybs {
+            smoothing.steps = YBS_DEFAULT_SMOOTHING_STEPS;
+        }
+        ExtractOptions {
+            pipeline: Pipeline::for_method(method),
+            orient_outward: true,
+            creases: CreaseOptions::DEFAULT,
+            pre_smoothing: SurfaceSmoothing::default(),
+            curvature: CurvatureOptions::default().with_estimator(Estimator::JetFit),
+            smoothing,
+            smooth_only_noisy: true,
+            min_length: DEFAULT_MIN_LENGTH,
+            fairing: Fairing::default(),
+            merge: MergeOptions::DEFAULT,
+        }
+    }
+
+    /// Which method runs.
+    pub fn method(&self) -> Method {
+        self.pipeline.method()
+    }
+
+    /// These options with the method's threshold set to `threshold`.
+    pub fn with_threshold(mut self, threshold: Threshold) -> Self {
+        self.pipeline.set_threshold(threshold);
+        self
+    }
+
+    /// These options with the method's automatic threshold
+    /// ([`Pipeline::automatic_threshold`]).
+    pub fn with_automatic_threshold(self) -> Self {
+        let automatic = self.pipeline.automatic_threshold();
+        self.with_threshold(automatic)
+    }
+}
+
+impl Default for ExtractOptions {
+    fn default() -> Self {
+        Self::for_method(Method::Hpw)
+    }
+}
