@@ -18,7 +18,7 @@ for target in "$@"; do
     # and a few records.
     case $target in extract) max_len=3001 ;; *) max_len=4096 ;; esac
     nice -n 19 "$bin/$target" "$here/corpus/$target" "$here/seeds/$target" \
-        -max_total_time="$seconds" -max_len="$max_len" -rss_limit_mb=2048 -timeout=10 \
+        -max_total_time="$seconds" -max_len="$max_len" -rss_limit_mb=2048 -timeout="${FUZZ_TIMEOUT:-10}" \
         -artifact_prefix="$here/artifacts/$target/" -print_final_stats=1 \
         > "$here/corpus/$target.log" 2>&1 || true
     execs=$(grep -a 'stat::number_of_executed_units' "$here/corpus/$target.log" | awk '{print $2}')

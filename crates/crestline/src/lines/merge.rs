@@ -21,8 +21,10 @@
 //! - what is left of a cut crest line must still be [`MergeOptions::min_length`] long;
 //! - crest lines away from creases (fillets, blends, freeform parts) are kept as they are.
 //!
-//! Distances are measured to the crease curves resampled every half tolerance, so the test
-//! "within the tolerance" is exact to a quarter of it. A cut line keeps its kind; its
+//! Distances are measured to the crease curves themselves (exactly: resampled every half
+//! tolerance to find the candidate segments, then the nearest point on those), so what is
+//! near a crease and where a line joins it change continuously with the line: a motion of
+//! the model that changes the rounding does not move a join point from one sample to the next. A cut line keeps its kind; its
 //! strengths are scaled to the part kept (T = ∫ds·∫C ds by the square of the length ratio,
 //! ∫|k|ds by the ratio).
 
@@ -80,68 +82,116 @@ impl Default for MergeOptions {
     }
 }
 
-/// A crease curve resampled, for nearest-point queries.
+/// One straight piece of a crease curve.
+struct CreaseSegment {
+    p: Vec3,
+    q: Vec3,
+    /// The mesh edge it runs along, with its end vertices in the direction p → q.
+    edge: Option<(u32, u32, u32)>,
+    /// Where the piece lies when it is not along one edge.
+    location: SurfacePoint,
+}
+
+/// The crease curves as segments, resampled for nearest-point queries: a query finds the
+/// samples near a point, then the nearest point on their segments, so that what is "near"
+/// and where a line is joined depend continuously on the line (not on the resampling).
 struct CreaseSamples {
-    points: Vec<Vec3>,
-    locations: Vec<SurfacePoint>,
+    segments: Vec<CreaseSegment>,
+    /// The segment of each sample.
+    segment_of: Vec<u32>,
     grid: PointGrid,
+    spacing: f64,
 }
 
 impl CreaseSamples {
     /// Samples every crease segment at most `spacing` apart (both ends included).
     fn new(mesh: &TriMesh, creases: &FeatureLines, spacing: f64) -> Self {
         let topo = mesh.topology();
+        let mut segments = Vec::new();
         let mut points = Vec::new();
-        let mut locations = Vec::new();
+        let mut segment_of = Vec::new();
+        let fallback = |line: &FeatureLine, k: usize| {
+            line.locations
+                .get(k)
+                .copied()
+                .unwrap_or(SurfacePoint::Face { face: 0 })
+        };
         for line in &creases.lines {
             let n = line.points.len();
-            let segments = if line.closed { n } else { n.saturating_sub(1) };
-            if n == 1 {
-                points.push(line.points[0]);
-                locations.push(
-                    line.locations
-                        .first()
-                        .copied()
-                        .unwrap_or(SurfacePoint::Face { face: 0 }),
-                );
-            }
-            for k in 0..segments {
-                let (p, q) = (line.points[k], line.points[(k + 1) % n]);
-                let steps = ((q - p).norm() / spacing).ceil().clamp(1.0, 1e6) as usize;
-                let ends = match (line.locations.get(k), line.locations.get((k + 1) % n)) {
-                    (Some(SurfacePoint::Vertex(a)), Some(SurfacePoint::Vertex(b))) => {
-                        topo.edge_between(*a, *b).map(|e| (e, *a < *b, *a))
+            let count = if line.closed { n } else { n.saturating_sub(1) };
+            let pieces: Vec<(usize, usize)> = if n == 1 {
+                vec![(0, 0)]
+            } else {
+                (0..count).map(|k| (k, (k + 1) % n)).collect()
+            };
+            for (k, l) in pieces {
+                let (p, q) = (line.points[k], line.points[l]);
+                let edge = match (line.locations.get(k), line.locations.get(l)) {
+                    (Some(SurfacePoint::Vertex(a)), Some(SurfacePoint::Vertex(b))) if k != l => {
+                        topo.edge_between(*a, *b).map(|e| (e, *a, *b))
                     }
                     _ => None,
                 };
+                let steps = ((q - p).norm() / spacing).ceil().clamp(1.0, 1e6) as usize;
                 for s in 0..=steps {
-                    let t = s as f64 / steps as f64;
-                    points.push(p + (q - p) * t);
-                    locations.push(match ends {
-                        Some((_, _, a)) if s == 0 => SurfacePoint::Vertex(a),
-                        Some((edge, forward, _)) => SurfacePoint::Edge {
-                            edge,
-                            t: if forward { t } else { 1.0 - t },
-                        },
-                        None => line
-                            .locations
-                            .get(k)
-                            .copied()
-                            .unwrap_or(SurfacePoint::Face { face: 0 }),
-                    });
+                    points.push(p + (q - p) * (s as f64 / steps as f64));
+                    segment_of.push(segments.len() as u32);
                 }
+                segments.push(CreaseSegment {
+                    p,
+                    q,
+                    edge,
+                    location: fallback(line, k),
+                });
             }
         }
         let grid = PointGrid::new(&points, spacing * 4.0);
         CreaseSamples {
-            points,
-            locations,
+            segments,
+            segment_of,
             grid,
+            spacing,
         }
     }
 
-    fn nearest_within(&self, p: Vec3, radius: f64) -> Option<usize> {
-        self.grid.nearest_within(p, radius).map(|i| i as usize)
+    /// The point of the crease curves nearest to `x`, if one is within `radius`, with where
+    /// it lies on the mesh.
+    fn nearest_point(&self, x: Vec3, radius: f64) -> Option<(Vec3, SurfacePoint)> {
+        // Every segment within `radius` has a sample within `radius + spacing`.
+        let mut candidates: Vec<u32> = Vec::new();
+        self.grid.for_each_within(x, radius + self.spacing, |i, _| {
+            candidates.push(self.segment_of[i as usize])
+        });
+        candidates.sort_unstable();
+        candidates.dedup();
+        let mut best: Option<(f64, u32, f64)> = None;
+        for s in candidates {
+            let seg = &self.segments[s as usize];
+            let pq = seg.q - seg.p;
+            let len2 = pq.norm_squared();
+            let t = if len2 > 0.0 {
+                ((x - seg.p).dot(&pq) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let d2 = (seg.p + pq * t - x).norm_squared();
+            if d2 <= radius * radius && best.is_none_or(|(b, _, _)| d2 < b) {
+                best = Some((d2, s, t));
+            }
+        }
+        let (_, s, t) = best?;
+        let seg = &self.segments[s as usize];
+        let location = match seg.edge {
+            Some((_, a, _)) if t <= 0.0 => SurfacePoint::Vertex(a),
+            Some((_, _, b)) if t >= 1.0 => SurfacePoint::Vertex(b),
+            Some((edge, a, b)) => SurfacePoint::Edge {
+                edge,
+                // Edge parameters run from the edge's first vertex.
+                t: if a < b { t } else { 1.0 - t },
+            },
+            None => seg.location,
+        };
+        Some((seg.p + (seg.q - seg.p) * t, location))
     }
 }
 
@@ -239,7 +289,7 @@ fn cut_line(
     let near: Vec<bool> = (0..n)
         .map(|k| {
             (has_locations && !support.is_supported(line.locations[k]))
-                || samples.nearest_within(line.points[k], tolerance).is_some()
+                || samples.nearest_point(line.points[k], tolerance).is_some()
                 || support.near_cone(line.points[k])
         })
         .collect();
@@ -388,10 +438,9 @@ fn join_end(
     radius: f64,
     at_start: bool,
 ) {
-    let Some(i) = samples.nearest_within(anchor, radius) else {
+    let Some((p, loc)) = samples.nearest_point(anchor, radius) else {
         return;
     };
-    let (p, loc) = (samples.points[i], samples.locations[i]);
     let end = if at_start {
         line.points.first()
     } else {

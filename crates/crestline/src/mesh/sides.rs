@@ -12,8 +12,9 @@ pub const SIDE_TIE: f64 = 1e-9;
 
 /// The faces at vertex `v` on its widest side: the faces around v joined across edges at v
 /// that are not flagged in `crease_edges` (per edge), grouped into sides, and of those the one
-/// with the largest total angle at v (ties up to [`SIDE_TIE`]: the larger area, then the side
-/// whose centroid comes first in (x, y, z) order). All faces of v when no crease
+/// with the largest total angle at v (ties up to [`SIDE_TIE`]: the larger area, more faces,
+/// the larger second moment of the face centroids, then the side whose centroid comes first
+/// in (x, y, z) order). All faces of v when no crease
 /// edge meets it. A vertex on a crease is a sample of every side; its own fit and fields
 /// describe this one (see [`crate::curvature::jet_fit`](mod@crate::curvature::jet_fit)).
 pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
@@ -50,38 +51,50 @@ pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
     let mut total = vec![0.0; faces.len()];
     let mut area = vec![0.0; faces.len()];
     let mut centroid = vec![Vec3::zeros(); faces.len()];
+    let mut count = vec![0usize; faces.len()];
+    let mut moment = vec![0.0; faces.len()];
     for (i, &f) in faces.iter().enumerate() {
         let r = root(&mut side, i);
         let [a, b, c] = mesh.triangle(f as usize);
         total[r] += corner_angle(mesh, f, v);
         area[r] += 0.5 * (b - a).cross(&(c - a)).norm();
-        centroid[r] += ((a - p) + (b - p) + (c - p)) / 3.0;
+        let from_v = ((a - p) + (b - p) + (c - p)) / 3.0;
+        centroid[r] += from_v;
+        count[r] += 1;
+        moment[r] += from_v.norm_squared();
     }
     let roots: Vec<usize> = (0..faces.len())
         .filter(|&i| root(&mut side, i) == i)
         .collect();
     let widest = roots.iter().map(|&r| total[r]).fold(0.0, f64::max);
     // Angles equal up to rounding (a vertex on a straight crease between two flat sides has π
-    // on each) are a tie: rounding changes with a translation and with the order of the faces,
-    // and the choice must not. Ties go to the larger area (again up to rounding), then to the
+    // on each) are a tie: rounding changes with a translation, a rotation and with the order
+    // of the faces, and the choice must not. Ties go to the larger area, then to the side of
+    // more faces, then to the larger second moment of the face centroids about v (each up to
+    // rounding: all three are invariant under motions and reordering), and only then to the
     // side whose centroid comes first in (x, y, z) order.
     let tied = |x: f64, y: f64| (x - y).abs() <= SIDE_TIE * x.abs().max(y.abs());
+    let by = |x: f64, y: f64| {
+        if tied(x, y) {
+            std::cmp::Ordering::Equal
+        } else {
+            x.total_cmp(&y)
+        }
+    };
     let Some(best) = roots
         .iter()
         .copied()
         .filter(|&r| tied(total[r], widest))
         .max_by(|&a, &b| {
-            let by_area = if tied(area[a], area[b]) {
-                std::cmp::Ordering::Equal
-            } else {
-                area[a].total_cmp(&area[b])
-            };
-            by_area.then_with(|| {
-                let (ca, cb) = (centroid[a], centroid[b]);
-                (cb.x.total_cmp(&ca.x))
-                    .then(cb.y.total_cmp(&ca.y))
-                    .then(cb.z.total_cmp(&ca.z))
-            })
+            by(area[a], area[b])
+                .then(count[a].cmp(&count[b]))
+                .then(by(moment[a], moment[b]))
+                .then_with(|| {
+                    let (ca, cb) = (centroid[a], centroid[b]);
+                    (cb.x.total_cmp(&ca.x))
+                        .then(cb.y.total_cmp(&ca.y))
+                        .then(cb.z.total_cmp(&ca.z))
+                })
         })
     else {
         return Vec::new();

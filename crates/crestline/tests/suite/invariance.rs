@@ -304,11 +304,18 @@ fn fandisk_lines_are_invariant_under_translation_and_reordering() {
 // Known gaps, measured (issue 22). Translation and reordering on fandisk used to add one
 // ridge of 3 points: a crease vertex between two flat sides has an angle of π on each, and
 // `widest_side` chose between them by rounding; it now takes angles within 1e-9 as a tie
-// (`SIDE_TIE`) and breaks it by area and position. Left, measured after that fix: on fandisk
-// a rotation gives 48 lines against 48, but 1.73e-2 of the diagonal of length off and points
-// moved beyond 1e-6 of it; on the bunny a reordering gives 121 lines against 121, 5.4e-4 of
-// the diagonal of length off (within the 0.1%) but points moved beyond 1e-6 (scaling by 1e-3
-// alone: 1.4e-8); igea was last measured before the fix (477 lines against 475, 7.9e-3 off).
+// (`SIDE_TIE`) and breaks it by area, face count and second moment (all invariant), and
+// the merge joins lines to the nearest point of a crease curve rather than of its
+// resampling. Left, measured after that: on fandisk a rotation gives 48 lines against 48,
+// but 1.66e-2 of the diagonal of length off and points moved beyond 1e-6 of it. The cause
+// found: on the rows of fandisk's grids some quartic jet fits are nearly singular (1 − R² of
+// a monomial on the others down to 1e-11), their coefficients then follow rounding, and
+// whether a disc counts as degenerate depends on the in-plane frame, which follows the
+// coordinate axes; a conditioning test that is invariant under the frame's rotation (the
+// eigenvalues of the normal equations in a rotation-orthogonal monomial basis) is the next
+// step. On the bunny a reordering gives 121 lines against 121, 5.4e-4 of the diagonal of
+// length off (within the 0.1%) but points moved beyond 1e-6 (scaling by 1e-3 alone: 1.4e-8);
+// igea was last measured before the first fix (477 lines against 475, 7.9e-3 off).
 // These tests keep the strict check and run with `cargo test -- --ignored`.
 
 #[test]
