@@ -230,6 +230,32 @@ pub fn jet_fit_split(
     Ok((curvature, report))
 }
 
+/// `sqrt(binomial(k, a))` for the monomial `x^a y^(k−a)` of degree k, in the order of
+/// [`monomials`]: in the basis of the monomials times these, a rotation of the tangent frame
+/// acts on coefficients by an orthogonal matrix. The fit's regularisation is the identity in
+/// that basis, so the fit does not depend on how the frame is turned (the frame follows the
+/// coordinate axes): on discs that leave some terms almost undetermined (the rows of CAD
+/// grids and fans, where the smallest eigenvalue of the normal equations falls to 1e-14 of
+/// the largest), a regularisation that is the identity in the plain monomials made the
+/// curvature of fandisk change by up to its whole size under a rotation of the model.
+const ROTATION_SCALE: [f64; 15] = [
+    1.0,
+    1.0,
+    1.0,
+    1.0,
+    std::f64::consts::SQRT_2,
+    1.0,
+    1.0,
+    1.732_050_807_568_877_2,
+    1.732_050_807_568_877_2,
+    1.0,
+    1.0,
+    2.0,
+    2.449_489_742_783_178,
+    2.0,
+    1.0,
+];
+
 /// The noise level (in sample spacings) that the fitting radius is referred to. Clean meshes
 /// measure below it: their residual is the quartic probe's truncation error (below 0.0003
 /// spacings on the public clean cases, bumps of 3 to 4 spacings included), and they keep
@@ -568,21 +594,19 @@ impl Context<'_> {
             }
         }
         let count = s.samples.len();
-        // Degree by what the disc can carry: 15, 10 and 6 coefficients, with some surplus.
-        let degree = if count >= 20 && self.options.degree >= 4 {
-            4
-        } else if count >= 13 {
-            3
-        } else if count >= 7 {
-            2
-        } else {
-            return None;
-        };
-        match degree {
-            4 => solve::<15>(&s.samples, 4, self.residual),
-            3 => solve::<10>(&s.samples, 3, self.residual),
-            _ => solve::<6>(&s.samples, 2, self.residual),
+        // Degree by what the disc can carry: 15, 10 and 6 coefficients, with some surplus;
+        // a lower one when the normal equations cannot be factored.
+        let mut fit = None;
+        if count >= 20 && self.options.degree >= 4 {
+            fit = solve::<15>(&s.samples, 4, self.residual);
         }
+        if fit.is_none() && count >= 13 {
+            fit = solve::<10>(&s.samples, 3, self.residual);
+        }
+        if fit.is_none() && count >= 7 {
+            fit = solve::<6>(&s.samples, 2, self.residual);
+        }
+        fit
     }
 }
 
@@ -649,10 +673,12 @@ fn solve<const N: usize>(samples: &[Sample], degree: usize, residual: bool) -> O
     if weight.is_nan() || weight <= 0.0 {
         return None;
     }
-    // A whisper of ridge regularisation keeps nearly collinear discs solvable.
+    // A whisper of ridge regularisation keeps nearly collinear discs solvable. It is the
+    // identity in the rotation-orthogonal basis (`ROTATION_SCALE`), so that it does not
+    // depend on how the tangent frame is turned.
     let ridge = 1e-12 * ata.trace() / N as f64;
     for k in 0..N {
-        ata[(k, k)] += ridge;
+        ata[(k, k)] += ridge / (ROTATION_SCALE[k] * ROTATION_SCALE[k]);
     }
     // `syger` wrote the lower triangle, which is the one the factorisation reads.
     let chol = ata.cholesky()?;
