@@ -3,13 +3,10 @@
 //!
 //! glibc maps allocations of 128 KiB or more with their own `mmap`, so that freeing them
 //! returns the memory at once, but it raises that threshold to the size of the largest such
-//! block freed so far (up to 32 MiB). The first large block `extract` frees is the file's bytes
-//! (14 MB for igea.off), then the pipeline's temporaries: from then on the arrays of the later
-//! stages come from the heap, where freed blocks stay resident until the top of the heap is
-//! free again. On igea this kept about 5.6 MiB that was no longer in use resident at the peak:
-//! 215 bytes per face against 193 with the threshold pinned at 128 KiB (`BENCHMARKS.md`,
-//! session 6). The price is that every large array is mapped afresh and its pages faulted in
-//! again: about 10% of the wall time on igea.
+//! block freed so far (up to 32 MiB). After `extract` frees the file's bytes, the later stages'
+//! arrays come from the heap, where freed blocks stay resident until the top of the heap is
+//! free again. Pinned, the peak is lower and every large array is faulted in afresh (igea: 215
+//! → 193 bytes per face, about 10% more wall time; `docs/benchmarks-history.md`, session 6).
 //!
 //! Pinning the threshold (any explicit setting turns glibc's adjustment off) keeps every large
 //! array a mapping of its own, returned when it is freed. It is done by the binary only: the

@@ -2,7 +2,7 @@
 //! time on a shared machine), resident memory after every step, the
 //! peak within the step and the peak so far (Linux `/proc/self/status`; the high-water mark is
 //! reset at the start of each step through `/proc/self/clear_refs`), plus the bytes held by the
-//! mesh itself. Used for the CGAL comparison in `BENCHMARKS.md`.
+//! mesh itself. Used for the CGAL comparison (`docs/benchmarks-history.md`, session 3).
 //!
 //! ```sh
 //! cargo run --release -p crestline --example stage_memory -- MESH [hpw|ybs|saliency|load]

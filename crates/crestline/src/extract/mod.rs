@@ -37,8 +37,9 @@
 //! every k from 1 to 4, and the torus stays empty. Measured alternatives: larger k (the
 //! paper's own remedy, k = 3 in its Fig. 5) passes at k = 3 with 4 pieces and a 0.069
 //! deviation against a 0.075 tolerance, and fails at k = 2; one smoothing step leaves the
-//! equator split around the valence-5 vertices. The price is one sparse factorisation per
-//! family (see `BENCHMARKS.md`); T is measured on the smoothed fields, as for HPW.
+//! equator split around the valence-5 vertices. The price is one smoothing solve per family
+//! (`BENCHMARKS.md`, "Extremality smoothing solver"); T is measured on the smoothed fields,
+//! as for HPW.
 //!
 //! **Default estimator of HPW and YBS: the jet fit** ([`crate::curvature::jet_fit`](mod@crate::curvature::jet_fit)).
 //! *Deliberate deviation from all three papers.* The papers' estimators read one star (HPW's

@@ -165,7 +165,7 @@ const READ_PIECE: usize = 4 << 20;
 /// [`READ_PIECE`] bytes by the worker threads, each piece into its place in one buffer: most of
 /// the time of reading a file the system has cached goes into copying it and into the first
 /// touch of the buffer's fresh pages, and both are then shared between the cores (an 84 MB
-/// file: see `BENCHMARKS.md`, session 7). Bytes appended while the pieces are read are read
+/// file: see `docs/benchmarks-history.md`, session 7). Bytes appended while the pieces are read are read
 /// after them; a file that shrinks meanwhile gives an "unexpected end of file" error.
 pub(crate) fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
     #[cfg(unix)]

@@ -54,9 +54,7 @@ pub(super) fn variation_with<const L: usize>(mesh: &TriMesh, curv: &[f64], sigma
         .collect();
     // 2 σ_L, scaled.
     let radius = std::f64::consts::SQRT_2 * L as f64;
-    // Cells of r/2: on igea a query scans 1.8 times the points within r, in 17 runs of
-    // cells (cells of r: 2.8 times, in 7 runs; r/3: 1.5 times, in 30 runs) — the fastest
-    // of the three, measured.
+    // Cells of r/2: the fastest of r, r/2 and r/3 on igea (`docs/benchmarks-history.md`).
     let grid = PointGrid::new(&points, radius / 2.0);
     let order = grid.order();
     let column =

@@ -244,7 +244,7 @@ const ROW_BLOCK: usize = 2048;
 /// meshes. A counting sort, with the vertices cut into one range per worker thread: each
 /// worker reads all the faces and counts, then places, only the corners at its own vertices,
 /// so every row is in face order whatever the number of workers and no write is shared
-/// (shared atomic counters were slower, see `BENCHMARKS.md`).
+/// (shared atomic counters were slower, see `docs/benchmarks-history.md`, sessions 4 and 7).
 pub(super) fn vertex_face_rows(
     n: usize,
     faces: &[[u32; 3]],

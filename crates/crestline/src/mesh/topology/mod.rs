@@ -8,7 +8,7 @@
 //!
 //! it keeps the faces, and looks a face's three edges up in the edge lists of its vertices
 //! ([`Topology::face_edges`], a scan of a few entries) rather than storing them. About 65 bytes
-//! per face in all (see `BENCHMARKS.md`, "Comparison with CGAL Ridges_3").
+//! per face in all (see `docs/benchmarks-history.md`, session 3, "Where time and memory go").
 //!
 //! Ordered one-rings are walked on demand across edges that have exactly two faces, so they
 //! work whatever the orientation of the neighbouring faces; a vertex whose faces form more

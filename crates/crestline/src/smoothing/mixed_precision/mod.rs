@@ -3,7 +3,7 @@
 //! precision, all fields (up to [`MAX_FIELDS`]) in one pass over the matrix.
 //!
 //! It computes what [`super::system::jacobi_cg`] computes, with three changes for speed (the
-//! iterations are bound by memory traffic; see `BENCHMARKS.md`):
+//! iterations are bound by memory traffic; see `docs/benchmarks-history.md`, session 5):
 //! - **Rows.** The matrix in compressed rows laid out like [`Topology::vertex_edges`], 8 bytes
 //!   per entry: the neighbour with the fields' sign bits below it, and `w_pq` as `f32`; the
 //!   signs become factors ±1 through a 256-entry table. The weights are rounded to single
