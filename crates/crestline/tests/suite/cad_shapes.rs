@@ -179,7 +179,8 @@ fn check_method(method: Method, known_gaps: &[(&str, f64)]) {
 // Known gap, HPW: on the fine cone a spurious crest line near the apex (measured F1 0.974:
 // the cone's e is zero in theory, T of the spurious piece about 2.2; the merge cuts lines
 // within three rings of the apex, the piece lies at 1.5 to 3 fitting radii). YBS meets the
-// target there since the saliency and merge changes of 2026-11-26 (0.982; it was 0.95).
+// target there (0.982 measured on 2026-11-26; the 0.95 noted before predates the jet fit's
+// strip sampling).
 #[test]
 fn hpw_lines_are_the_sharp_edges_of_cad_solids() {
     check_method(Method::Hpw, &[("cone (Fine)", 0.97)]);
