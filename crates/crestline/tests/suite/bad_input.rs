@@ -346,6 +346,21 @@ fn ply_empty_and_header_only() {
 }
 
 #[test]
+fn ply_elements_without_properties_cost_nothing_whatever_their_count() {
+    // Found by the `ply` fuzz target: an element of 10^18 records and no property made the
+    // ascii reader loop over nothing for minutes. Such records hold no values: skipped.
+    let head = "ply\nformat ascii 1.0\nelement stray 1000000000000000000\n";
+    let ascii = PLY_HEAD.replace("ply\nformat ascii 1.0\n", head) + TRIANGLE_BODY;
+    let mesh = read("a.ply", ascii.as_bytes()).unwrap();
+    assert_eq!((mesh.num_vertices(), mesh.num_faces()), (3, 1));
+    let mut binary = binary_ply(("3", "1"), &TRIANGLE, &[&[0, 1, 2]]);
+    let at = binary.windows(7).position(|w| w == b"element").unwrap();
+    binary.splice(at..at, b"element stray 1000000000000000000\n".iter().copied());
+    let mesh = read("a.ply", &binary).unwrap();
+    assert_eq!((mesh.num_vertices(), mesh.num_faces()), (3, 1));
+}
+
+#[test]
 fn ply_headers_claiming_a_trillion_elements_allocate_nothing() {
     // Each would need terabytes if the count were trusted; the file holds a few bytes.
     let t = "1000000000000";

@@ -121,6 +121,10 @@ fn walk<V: Values>(header: &Header, values: &mut V, source: Source<'_>) -> Resul
                 },
             )
         };
+        // A record without properties holds nothing (see the mesh reader).
+        if element.properties.is_empty() {
+            continue;
+        }
         for record in 0..element.count {
             let mut point = [0.0f64; 3];
             let mut edge = EdgeRecord::default();

@@ -173,6 +173,11 @@ fn decode<V: Values>(
         if element.name == "face" {
             faces.reserve(room(element));
         }
+        // A record without properties holds nothing: skipped whatever the count claims
+        // (a header's word alone must not cost time either).
+        if element.properties.is_empty() {
+            continue;
+        }
         for record in 0..element.count {
             let mut point = [0.0f64; 3];
             for property in &element.properties {
