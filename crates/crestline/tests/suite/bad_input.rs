@@ -355,7 +355,10 @@ fn ply_elements_without_properties_cost_nothing_whatever_their_count() {
     assert_eq!((mesh.num_vertices(), mesh.num_faces()), (3, 1));
     let mut binary = binary_ply(("3", "1"), &TRIANGLE, &[&[0, 1, 2]]);
     let at = binary.windows(7).position(|w| w == b"element").unwrap();
-    binary.splice(at..at, b"element stray 1000000000000000000\n".iter().copied());
+    binary.splice(
+        at..at,
+        b"element stray 1000000000000000000\n".iter().copied(),
+    );
     let mesh = read("a.ply", &binary).unwrap();
     assert_eq!((mesh.num_vertices(), mesh.num_faces()), (3, 1));
 }
