@@ -1,5 +1,16 @@
-//! Compressed rows (offsets plus values, the layout of the mesh's adjacency lists) and the
-//! cutting of slices into disjoint mutable pieces that lets threads fill them in parallel.
+//! Compressed rows (offsets plus values, the layout of the mesh's adjacency lists), the
+//! cutting of slices into disjoint mutable pieces that lets threads fill them in parallel, and
+//! the find step of a union-find forest kept as a slice of parent indices.
+
+/// The root of `i` in a union-find forest stored as parent indices (a root is its own parent),
+/// halving the path on the way.
+pub(crate) fn union_find_root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
 
 /// Offsets from counts: `[0, c0, c0 + c1, ...]` (one more than the counts).
 pub(crate) fn prefix_sums(counts: impl ExactSizeIterator<Item = u32>) -> Vec<u32> {

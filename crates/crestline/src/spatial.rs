@@ -211,13 +211,18 @@ impl PointGrid {
 
 /// The point of segment `p q` nearest to `x`.
 pub fn closest_point_on_segment(x: Vec3, p: Vec3, q: Vec3) -> Vec3 {
+    p + (q - p) * segment_parameter(x, p, q)
+}
+
+/// The parameter `t` in [0, 1] of the point `p + t (q − p)` of segment `p q` nearest to `x`
+/// (0 for a segment of zero length).
+pub fn segment_parameter(x: Vec3, p: Vec3, q: Vec3) -> f64 {
     let pq = q - p;
     let len2 = pq.norm_squared();
     if len2 <= 0.0 {
-        return p;
+        return 0.0;
     }
-    let t = ((x - p).dot(&pq) / len2).clamp(0.0, 1.0);
-    p + pq * t
+    ((x - p).dot(&pq) / len2).clamp(0.0, 1.0)
 }
 
 /// The point of triangle `[a, b, c]` (a closed set) nearest to `x`.

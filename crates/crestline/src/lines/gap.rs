@@ -22,6 +22,7 @@
 use std::collections::HashMap;
 
 use crate::mesh::{TriMesh, Vec3};
+use crate::slices::union_find_root;
 
 use super::assemble::measure_line;
 use super::trace::Family;
@@ -75,7 +76,10 @@ pub fn jump_gaps(
             continue;
         }
         let (a, b) = (ends[i], ends[j]);
-        let (la, lb) = (find(&mut owner, a.line), find(&mut owner, b.line));
+        let (la, lb) = (
+            union_find_root(&mut owner, a.line),
+            union_find_root(&mut owner, b.line),
+        );
         if la == lb {
             // Both ends are unused, so they are the two ends of this chain: close it.
             let line = &mut lines[la];
@@ -219,14 +223,6 @@ fn join_angle(a: &End, b: &End, options: &GapJumping) -> Option<f64> {
         None => true,
     };
     (ends_ok && gamma <= options.max_turn_angle).then_some(gamma)
-}
-
-fn find(owner: &mut [usize], mut x: usize) -> usize {
-    while owner[x] != x {
-        owner[x] = owner[owner[x]];
-        x = owner[x];
-    }
-    x
 }
 
 fn empty_like(line: &FeatureLine) -> FeatureLine {

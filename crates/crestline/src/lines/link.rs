@@ -61,6 +61,7 @@
 use super::filter::HPW_DEFAULT_THRESHOLD;
 use crate::curvature::Curvature;
 use crate::mesh::{TriMesh, Vec3};
+use crate::slices::union_find_root;
 
 use rayon::prelude::*;
 
@@ -393,17 +394,13 @@ fn strokes(paths: &[(Vec<usize>, bool)], lines: &[FeatureLine]) -> Vec<usize> {
     }
     ends.sort_by_key(|e| (e.0, e.1));
     let mut parent: Vec<usize> = (0..lines.len()).collect();
-    fn root(parent: &mut [usize], mut v: usize) -> usize {
-        while parent[v] != v {
-            parent[v] = parent[parent[v]];
-            v = parent[v];
-        }
-        v
-    }
     // Small loops are one stroke: where three crest points form a triangle, the per-side
     // linking leaves two or three short lines around it (p–q beside p–m–q).
     for (a, b) in small_loops(paths) {
-        let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+        let (ra, rb) = (
+            union_find_root(&mut parent, a),
+            union_find_root(&mut parent, b),
+        );
         parent[ra.max(rb)] = ra.min(rb);
     }
     for group in ends.chunk_by(|a, b| a.0 == b.0) {
@@ -429,11 +426,16 @@ fn strokes(paths: &[(Vec<usize>, bool)], lines: &[FeatureLine]) -> Vec<usize> {
             }
             used[a] = true;
             used[b] = true;
-            let (ra, rb) = (root(&mut parent, group[a].1), root(&mut parent, group[b].1));
+            let (ra, rb) = (
+                union_find_root(&mut parent, group[a].1),
+                union_find_root(&mut parent, group[b].1),
+            );
             parent[ra.max(rb)] = ra.min(rb);
         }
     }
-    (0..lines.len()).map(|i| root(&mut parent, i)).collect()
+    (0..lines.len())
+        .map(|i| union_find_root(&mut parent, i))
+        .collect()
 }
 
 /// Pairs of lines on one small loop: two lines between the same two points, or three lines

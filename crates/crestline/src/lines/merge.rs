@@ -33,7 +33,7 @@ use super::{FeatureLine, FeatureLines, SurfacePoint};
 use crate::error::{Error, Result};
 use crate::mesh::widest_side;
 use crate::mesh::{TriMesh, Vec3};
-use crate::spatial::PointGrid;
+use crate::spatial::{PointGrid, segment_parameter};
 
 /// Options of [`merge_creases`]; distances are fractions of the bounding-box diagonal.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -167,14 +167,8 @@ impl CreaseSamples {
         let mut best: Option<(f64, u32, f64)> = None;
         for s in candidates {
             let seg = &self.segments[s as usize];
-            let pq = seg.q - seg.p;
-            let len2 = pq.norm_squared();
-            let t = if len2 > 0.0 {
-                ((x - seg.p).dot(&pq) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let d2 = (seg.p + pq * t - x).norm_squared();
+            let t = segment_parameter(x, seg.p, seg.q);
+            let d2 = (seg.p + (seg.q - seg.p) * t - x).norm_squared();
             if d2 <= radius * radius && best.is_none_or(|(b, _, _)| d2 < b) {
                 best = Some((d2, s, t));
             }

@@ -3,6 +3,7 @@
 //! of creases and crest lines another's lines.
 
 use super::{TriMesh, Vec3};
+use crate::slices::union_find_root;
 
 /// Relative difference below which two sides' angles (or areas) at a crease vertex count as
 /// equal in [`widest_side`]: far above rounding (1e-16 of a sum of a few angles; a translation
@@ -22,13 +23,6 @@ pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
     let faces = topo.vertex_faces(v);
     // Union-find over the (few) faces at v.
     let mut side: Vec<usize> = (0..faces.len()).collect();
-    fn root(side: &mut [usize], mut i: usize) -> usize {
-        while side[i] != i {
-            side[i] = side[side[i]];
-            i = side[i];
-        }
-        i
-    }
     for (i, &f) in faces.iter().enumerate() {
         for e in topo.face_edges(f) {
             let Some(&flag) = crease_edges.get(e as usize) else {
@@ -40,7 +34,7 @@ pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
             }
             for &g in topo.edge_faces(e) {
                 if let Some(j) = faces.iter().position(|&h| h == g) {
-                    let (ri, rj) = (root(&mut side, i), root(&mut side, j));
+                    let (ri, rj) = (union_find_root(&mut side, i), union_find_root(&mut side, j));
                     side[ri] = rj;
                 }
             }
@@ -54,7 +48,7 @@ pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
     let mut count = vec![0usize; faces.len()];
     let mut moment = vec![0.0; faces.len()];
     for (i, &f) in faces.iter().enumerate() {
-        let r = root(&mut side, i);
+        let r = union_find_root(&mut side, i);
         let [a, b, c] = mesh.triangle(f as usize);
         total[r] += corner_angle(mesh, f, v);
         area[r] += 0.5 * (b - a).cross(&(c - a)).norm();
@@ -64,7 +58,7 @@ pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
         moment[r] += from_v.norm_squared();
     }
     let roots: Vec<usize> = (0..faces.len())
-        .filter(|&i| root(&mut side, i) == i)
+        .filter(|&i| union_find_root(&mut side, i) == i)
         .collect();
     let widest = roots.iter().map(|&r| total[r]).fold(0.0, f64::max);
     // Angles equal up to rounding (a vertex on a straight crease between two flat sides has π
@@ -100,7 +94,7 @@ pub fn widest_side(mesh: &TriMesh, v: u32, crease_edges: &[bool]) -> Vec<u32> {
         return Vec::new();
     };
     (0..faces.len())
-        .filter(|&i| root(&mut side, i) == best)
+        .filter(|&i| union_find_root(&mut side, i) == best)
         .map(|i| faces[i])
         .collect()
 }

@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use super::{CreaseCurve, MAX_FACET_TURN};
 use crate::lines::assemble::chain_links;
 use crate::mesh::{TriMesh, corner_angle};
+use crate::slices::union_find_root;
 
 /// Cone points: interior vertices whose angle deficit `2π − Σ angles` exceeds
 /// [`MAX_FACET_TURN`] in magnitude and that no crease edge meets. A tessellation of a smooth
@@ -137,18 +138,14 @@ fn build_curve(mesh: &TriMesh, angles: &[f64], vertices: Vec<u32>, closed: bool)
 pub fn drop_stray_curves(curves: &mut Vec<CreaseCurve>, min_length: f64) -> usize {
     // Union-find over the curves, joined through shared vertices.
     let mut parent: Vec<usize> = (0..curves.len()).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
     let mut owner = std::collections::HashMap::new();
     for (i, c) in curves.iter().enumerate() {
         for &v in &c.vertices {
             if let Some(&j) = owner.get(&v) {
-                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                let (ri, rj) = (
+                    union_find_root(&mut parent, i),
+                    union_find_root(&mut parent, j),
+                );
                 parent[ri] = rj;
             } else {
                 owner.insert(v, i);
@@ -157,10 +154,10 @@ pub fn drop_stray_curves(curves: &mut Vec<CreaseCurve>, min_length: f64) -> usiz
     }
     let mut total = vec![0.0; curves.len()];
     for (i, c) in curves.iter().enumerate() {
-        total[root(&mut parent, i)] += c.length;
+        total[union_find_root(&mut parent, i)] += c.length;
     }
     let keep: Vec<bool> = (0..curves.len())
-        .map(|i| total[root(&mut parent, i)] >= min_length)
+        .map(|i| total[union_find_root(&mut parent, i)] >= min_length)
         .collect();
     let before = curves.len();
     let mut k = 0;
