@@ -188,6 +188,7 @@ pub fn jet_fit_split(
     let spacing = sample_spacing(mesh);
     let areas = vertex_areas(mesh);
     let normals = crate::mesh::vertex_normals_area(mesh);
+    let keys = probe_keys(mesh);
     let context = Context {
         mesh,
         areas: &areas,
@@ -196,6 +197,7 @@ pub fn jet_fit_split(
         options,
         split: split.as_ref().filter(|s| s.any),
         residual: false,
+        keys: &keys,
     };
     let sigma = context.probe_noise(options.radius);
     let noise = sigma / spacing.max(f64::MIN_POSITIVE);
@@ -286,6 +288,47 @@ fn median(values: &mut [f64]) -> f64 {
     values[mid]
 }
 
+/// About how many vertices the noise probe fits.
+const PROBE_SAMPLES: usize = 20_000;
+
+/// Per vertex, a pseudo-random key that depends on where the vertex is on the shape, not on
+/// its index nor on the pose of the model: a hash of its distance to the centroid, in units of
+/// the RMS distance, rounded to 2⁻²⁰. The noise probe fits the vertices whose key is a
+/// multiple of its stride and the simulated noise is drawn from it, so that reordering,
+/// turning, moving or scaling the mesh gives the same sample, the same radius and the same
+/// noise level (rounding moves a vertex across a bin about once in 10⁹).
+fn probe_keys(mesh: &TriMesh) -> Vec<u64> {
+    let positions = mesh.positions();
+    let n = positions.len().max(1) as f64;
+    let centroid = positions.iter().fold(Vec3::zeros(), |acc, p| acc + p) / n;
+    let rms = (positions
+        .iter()
+        .map(|p| (p - centroid).norm_squared())
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let unit = if rms > 0.0 && rms.is_finite() {
+        rms
+    } else {
+        1.0
+    };
+    positions
+        .iter()
+        .map(|p| {
+            let bin = ((p - centroid).norm() / unit * (1u64 << 20) as f64) as u64;
+            splitmix64(bin)
+        })
+        .collect()
+}
+
+/// The splitmix64 finaliser: a well-mixed 64-bit hash of `z`.
+fn splitmix64(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
 /// Everything a vertex's fit reads.
 #[derive(Clone, Copy)]
 struct Context<'a> {
@@ -298,6 +341,8 @@ struct Context<'a> {
     split: Option<&'a Split<'a>>,
     /// Whether the fits measure their residual (the noise probe; a second pass over the disc).
     residual: bool,
+    /// Per vertex, its key ([`probe_keys`]).
+    keys: &'a [u64],
 }
 
 /// Crease edges and the vertices on them.
@@ -385,7 +430,7 @@ impl Context<'_> {
     /// magnitude below any noise a scanner leaves.
     fn probe_noise(&self, radius: f64) -> f64 {
         let n = self.mesh.num_vertices();
-        let stride = n.div_ceil(20_000).max(1);
+        let stride = n.div_ceil(PROBE_SAMPLES).max(1) as u64;
         let quartic = JetFitOptions {
             degree: 4,
             ..*self.options
@@ -397,7 +442,7 @@ impl Context<'_> {
         };
         let mut residuals: Vec<f64> = (0..n as u32)
             .into_par_iter()
-            .step_by(stride)
+            .filter(|&v| self.keys[v as usize] % stride == 0)
             .map(|v| {
                 SCRATCH.with(|s| {
                     probe
@@ -483,7 +528,7 @@ impl Context<'_> {
             s.points.push(SurfacePoint {
                 position: self.mesh.position(q),
                 area: self.areas[q as usize],
-                noise: simulated_noise(q),
+                noise: simulated_noise(self.keys[q as usize]),
             });
             if self.split.is_some_and(|split| split.vertices[q as usize]) {
                 continue;
@@ -595,16 +640,12 @@ fn kernel(d2: f64) -> f64 {
     }
 }
 
-/// Simulated white noise of unit standard deviation in the height of vertex `q`: the same
-/// value in every disc that contains q, so that the fits turn it into noise of the
-/// extremalities with the spatial correlation real noise gets (uniform on [−√3, √3];
-/// splitmix64 of the index).
-pub(crate) fn simulated_noise(q: u32) -> f64 {
-    let mut z = u64::from(q).wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    let unit = (z >> 11) as f64 / (1u64 << 53) as f64;
+/// Simulated white noise of unit standard deviation in the height of the vertex with key
+/// `key` ([`probe_keys`]): the same value in every disc that contains the vertex, so that the
+/// fits turn it into noise of the extremalities with the spatial correlation real noise gets
+/// (uniform on [−√3, √3]; keyed by position, so that reordering the mesh does not change it).
+pub(crate) fn simulated_noise(key: u64) -> f64 {
+    let unit = (splitmix64(key ^ 0x5851_F42D_4C95_7F2D) >> 11) as f64 / (1u64 << 53) as f64;
     3f64.sqrt() * (2.0 * unit - 1.0)
 }
 

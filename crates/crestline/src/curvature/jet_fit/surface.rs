@@ -143,7 +143,8 @@ impl Context<'_> {
             let m = ((PIECES_PER_RADIUS * longest / r).ceil() as usize).clamp(1, MAX_PIECES);
             let piece = area_vector.norm() / (m * m) as f64;
             let unit = area_vector.try_normalize(0.0).unwrap_or_else(Vec3::zeros);
-            let noise = self.mesh.faces()[f as usize].map(simulated_noise);
+            let noise =
+                self.mesh.faces()[f as usize].map(|q| simulated_noise(self.keys[q as usize]));
             let inv = 1.0 / m as f64;
             // Piece centroids in barycentric coordinates (u, w) on b and c: the m² pieces of
             // the regular subdivision, upright ones at (i + 1/3, j + 1/3) / m, inverted ones
