@@ -156,8 +156,9 @@ fn build_line(mesh: &TriMesh, family: &Family<'_>, path: &[Node], closed: bool) 
 }
 
 /// Recomputes a line's length, `∫|k| ds` and `T = ∫ds · ∫C ds` from its points and surface
-/// locations (values interpolated linearly from the vertices). Lines without locations only
-/// get their length.
+/// locations (values interpolated linearly from the vertices). C counts only where the
+/// crossing is a crest and not a degenerate zero of e ([`is_resolved`]). Lines without
+/// locations only get their length.
 pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine) {
     let n = line.points.len();
     let mut k_abs = vec![0.0; n];
@@ -172,6 +173,9 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
             }
             k_abs[i] = k.abs();
             cyclideness[i] = debiased_cyclideness(c, family.e_noise);
+            if !is_resolved(mesh, family, *location, k_abs[i]) {
+                cyclideness[i] = 0.0;
+            }
         }
     }
     let (length, k_integral, c_integral) =
@@ -180,6 +184,24 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
     line.curvature_integral = k_integral;
     line.strength = length * c_integral;
 }
+
+/// Whether the extremality changes across the line fast enough for the crossing to be a crest
+/// rather than a degenerate zero: on cylinders, cones, spheres and tori (Dupin cyclides)
+/// `e ≡ 0` and `de/dt = 0`, and the fit's rounding decides where a "line" runs. The test
+/// compares the change of e along the crossed edge, `|Δe| / |edge|` (a lower bound of
+/// |de/dt|), with the curvature's own scale `|k|³`. Points inside faces or at vertices pass.
+pub fn is_resolved(mesh: &TriMesh, family: &Family<'_>, location: SurfacePoint, k: f64) -> bool {
+    let SurfacePoint::Edge { edge, .. } = location else {
+        return true;
+    };
+    let [a, b] = mesh.topology().edge(edge);
+    let change = (family.e[b as usize] * family.relative_sign(a, b) - family.e[a as usize]).abs();
+    let length = (mesh.position(b) - mesh.position(a)).norm();
+    change >= DEGENERATE_CREST * k.powi(3) * length
+}
+
+/// [`is_resolved`]'s bound: `|de/dt| < DEGENERATE_CREST |k|³` is a degenerate crossing.
+pub const DEGENERATE_CREST: f64 = 0.01;
 
 /// The cyclideness with the expected contribution of the extremalities' estimation noise
 /// removed: with independent normal errors of standard deviation δ in `e_max` and `e_min`,
@@ -238,6 +260,45 @@ mod tests {
         assert!((b - 2.0).abs() < 1e-12);
         let (l, _, _) = integrate(&pts, &[0.0; 3], &[0.0; 3], true);
         assert!((l - (2.0 + 2f64.sqrt())).abs() < 1e-12);
+    }
+
+    /// A crossing counts when e changes along the crossed edge by at least
+    /// `DEGENERATE_CREST |k|³` per unit length; rounding-level values, as on a cylinder, do not.
+    #[test]
+    fn degenerate_crossings_are_not_resolved() {
+        let m = TriMesh::from_arrays(
+            vec![[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
+        let edge = m.topology().face_edges(0)[0];
+        let [a, b] = m.topology().edge(edge);
+        let length = (m.position(b) - m.position(a)).norm();
+        let k = vec![2.0; 3];
+        let zero = vec![0.0; 3];
+        let dirs = vec![Vec3::x(); 3];
+        let resolved = |change: f64| {
+            let mut e = vec![0.0; 3];
+            e[a as usize] = -change / 2.0;
+            e[b as usize] = change / 2.0;
+            let fam = Family {
+                kind: LineKind::Ridge,
+                k: &k,
+                k_other: &zero,
+                e: &e,
+                e_other: &zero,
+                dirs: &dirs,
+                e_noise: 0.0,
+            };
+            is_resolved(&m, &fam, SurfacePoint::Edge { edge, t: 0.5 }, 2.0)
+        };
+        let bound = DEGENERATE_CREST * 8.0 * length;
+        assert!(resolved(1.01 * bound));
+        assert!(!resolved(0.99 * bound));
+        assert!(!resolved(1e-12));
+        let empty = crate::curvature::Curvature::default();
+        let fam = Family::of(&empty, LineKind::Ridge);
+        assert!(is_resolved(&m, &fam, SurfacePoint::Face { face: 0 }, 2.0));
     }
 
     /// A strip of quads along x; segments cross the strip's rungs to form one line.

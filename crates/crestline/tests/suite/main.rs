@@ -6,6 +6,7 @@
 mod auto_threshold;
 mod bad_input;
 mod bad_input_files;
+mod cad_parts;
 mod cad_shapes;
 mod cad_solids;
 mod common;

@@ -84,7 +84,7 @@ fn truth(surface: &str) -> Vec<(LineKind, [Vec3; 2])> {
 }
 
 /// Points every `step` along each segment (midpoints of equal pieces), with the piece length.
-fn sample(segments: impl Iterator<Item = [Vec3; 2]>, step: f64) -> Vec<(Vec3, f64)> {
+pub(super) fn sample(segments: impl Iterator<Item = [Vec3; 2]>, step: f64) -> Vec<(Vec3, f64)> {
     let mut out = Vec::new();
     for [a, b] in segments {
         let length = (b - a).norm();
@@ -99,7 +99,7 @@ fn sample(segments: impl Iterator<Item = [Vec3; 2]>, step: f64) -> Vec<(Vec3, f6
     out
 }
 
-fn line_segments(lines: &FeatureLines, kind: LineKind) -> Vec<[Vec3; 2]> {
+pub(super) fn line_segments(lines: &FeatureLines, kind: LineKind) -> Vec<[Vec3; 2]> {
     let mut out = Vec::new();
     for l in lines.of_kind(kind) {
         for w in l.points.windows(2) {
@@ -113,7 +113,7 @@ fn line_segments(lines: &FeatureLines, kind: LineKind) -> Vec<[Vec3; 2]> {
 }
 
 /// The share of the length of `from` within `tau` of `to`.
-fn covered(from: &[(Vec3, f64)], to: &[(Vec3, f64)], tau: f64) -> (f64, f64) {
+pub(super) fn covered(from: &[(Vec3, f64)], to: &[(Vec3, f64)], tau: f64) -> (f64, f64) {
     let points: Vec<Vec3> = to.iter().map(|p| p.0).collect();
     let grid = PointGrid::new(&points, tau);
     let total: f64 = from.iter().map(|p| p.1).sum();

@@ -1,0 +1,126 @@
+//! The machined parts of `../shared/quality/cad` (issue 20: "further CAD models with known
+//! sharp curves"): eight B-rep parts, each as a CAD program exports it (planar faces as fans of
+//! long thin triangles) and remeshed uniformly, with their exact sharp edges (`.fea`: mesh
+//! edges on B-rep edges whose faces meet at more than 1 degree). The lines of `extract`
+//! (default settings, every kind of line) are scored like `score_cad.py` scores them:
+//! precision and recall at 0.5% of the diagonal. The bounds sit a little below the measures
+//! when they were set.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::{Path, PathBuf};
+
+use crestline::extract::{ExtractOptions, Method, extract};
+use crestline::lines::LineKind;
+use crestline::{TriMesh, Vec3};
+
+use super::quality_cases::{covered, line_segments, sample};
+
+const PARTS: [&str; 8] = [
+    "dome_cap",
+    "hex_nut",
+    "keyed_shaft",
+    "pipe_elbow",
+    "rounded_box_chamfer",
+    "shallow_pyramid",
+    "slotted_plate",
+    "star_prism",
+];
+
+fn cad_dir() -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/quality/cad");
+    assert!(
+        dir.is_dir(),
+        "the CAD parts are missing: expected them in {} (shared/ beside the repository)",
+        dir.display()
+    );
+    dir
+}
+
+/// The mesh and its exact sharp edges as segments.
+fn load(name: &str) -> (TriMesh, Vec<[Vec3; 2]>) {
+    let dir = cad_dir();
+    let mesh = crestline::io::read_mesh(&dir.join(format!("{name}.obj")), None).unwrap();
+    let text = std::fs::read_to_string(dir.join(format!("{name}.fea"))).unwrap();
+    let mut numbers = text.split_whitespace().map(|w| w.parse::<usize>().unwrap());
+    let count = numbers.next().unwrap();
+    let edges: Vec<[Vec3; 2]> = (0..count)
+        .map(|_| {
+            let (i, j) = (numbers.next().unwrap(), numbers.next().unwrap());
+            [mesh.position(i as u32), mesh.position(j as u32)]
+        })
+        .collect();
+    (mesh, edges)
+}
+
+/// F1 of the lines of `method` on part `name` against its sharp edges.
+fn f1(method: Method, name: &str) -> f64 {
+    let (mesh, sharp) = load(name);
+    let result = extract(&mesh, &ExtractOptions::for_method(method)).unwrap();
+    let tau = 0.005 * mesh.bounding_box().diagonal();
+    let detected: Vec<[Vec3; 2]> = [LineKind::Ridge, LineKind::Valley]
+        .into_iter()
+        .flat_map(|kind| line_segments(&result.lines, kind))
+        .collect();
+    let detected = sample(detected.into_iter(), tau / 4.0);
+    let exact = sample(sharp.into_iter(), tau / 4.0);
+    let (p_near, p_total) = covered(&detected, &exact, tau);
+    let (r_near, r_total) = covered(&exact, &detected, tau);
+    let precision = if p_total > 0.0 { p_near / p_total } else { 0.0 };
+    let recall = if r_total > 0.0 { r_near / r_total } else { 0.0 };
+    let f1 = if precision + recall > 0.0 {
+        2.0 * precision * recall / (precision + recall)
+    } else {
+        0.0
+    };
+    eprintln!("{method:?} {name}: P {precision:.3} R {recall:.3} F1 {f1:.3}");
+    f1
+}
+
+/// Every part, both meshings: F1 at least 0.98, or the bound given for a known gap.
+fn check(method: Method, known_gaps: &[(&str, f64)]) {
+    let mut failures = Vec::new();
+    for part in PARTS {
+        for meshing in ["export", "uniform"] {
+            let name = format!("{part}-{meshing}");
+            let bound = known_gaps
+                .iter()
+                .find(|gap| gap.0 == name)
+                .map_or(0.98, |gap| gap.1);
+            let score = f1(method, &name);
+            if score < bound {
+                failures.push(format!("{name}: F1 {score:.3} < {bound}"));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{method:?}: {failures:?}");
+}
+
+// Known gaps, measured 2026-11-26 (HPW / YBS F1): the dome on its cylinder (export 0.884 /
+// 0.973, uniform 0.883 / 0.889) keeps a crest line along the cylinder, carried by the large
+// extremalities of the fits that span the dome's tangent seam, where k_min jumps from 0 to
+// 1/r; the exported pipe elbow (0.967 / 0.959) has short lines on its bend. Before the
+// degenerate-crest test (`lines::assemble::is_resolved`) the exported dome scored 0.837 /
+// 0.857 and the exported hex nut 0.980 with HPW.
+#[test]
+fn hpw_lines_are_the_sharp_edges_of_cad_parts() {
+    check(
+        Method::Hpw,
+        &[
+            ("dome_cap-export", 0.87),
+            ("dome_cap-uniform", 0.87),
+            ("pipe_elbow-export", 0.95),
+        ],
+    );
+}
+
+#[test]
+fn ybs_lines_are_the_sharp_edges_of_cad_parts() {
+    check(
+        Method::Ybs,
+        &[
+            ("dome_cap-export", 0.96),
+            ("dome_cap-uniform", 0.87),
+            ("pipe_elbow-export", 0.95),
+        ],
+    );
+}
