@@ -313,17 +313,15 @@ fn a_failed_write_keeps_the_old_file() {
     // replaces the old file.
     let bad = FeatureLines {
         lines: vec![FeatureLine {
-            kind: LineKind::Ridge,
-            points: vec![
-                crestline::Vec3::zeros(),
-                crestline::Vec3::new(f64::NAN, 0.0, 0.0),
-            ],
-            locations: Vec::new(),
-            closed: false,
             length: f64::NAN,
-            curvature_integral: 0.0,
-            strength: 0.0,
-            crease: false,
+            ..FeatureLine::new(
+                LineKind::Ridge,
+                vec![
+                    crestline::Vec3::zeros(),
+                    crestline::Vec3::new(f64::NAN, 0.0, 0.0),
+                ],
+                false,
+            )
         }],
     };
     for name in ["lines.json", "lines.obj", "lines.ply"] {

@@ -34,21 +34,13 @@ fn find_chromium() -> Option<PathBuf> {
 
 fn circle(kind: LineKind, radius: f64, z: f64) -> FeatureLine {
     let n = 120;
-    FeatureLine {
-        kind,
-        points: (0..n)
-            .map(|i| {
-                let a = std::f64::consts::TAU * i as f64 / n as f64;
-                Vec3::new(radius * a.cos(), radius * a.sin(), z)
-            })
-            .collect(),
-        locations: vec![],
-        closed: true,
-        length: 0.0,
-        curvature_integral: 0.0,
-        strength: 0.0,
-        crease: false,
-    }
+    let points = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            Vec3::new(radius * a.cos(), radius * a.sin(), z)
+        })
+        .collect();
+    FeatureLine::new(kind, points, true)
 }
 
 /// A fresh directory under the system's temporary folder.

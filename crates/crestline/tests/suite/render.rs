@@ -31,16 +31,7 @@ fn quad() -> TriMesh {
 }
 
 fn line(kind: LineKind, points: &[[f64; 3]]) -> FeatureLine {
-    FeatureLine {
-        kind,
-        points: points.iter().map(|&p| Vec3::from(p)).collect(),
-        locations: vec![],
-        closed: false,
-        length: 0.0,
-        curvature_integral: 0.0,
-        strength: 0.0,
-        crease: false,
-    }
+    FeatureLine::new(kind, points.iter().map(|&p| Vec3::from(p)).collect(), false)
 }
 
 fn flat_options() -> RenderOptions {

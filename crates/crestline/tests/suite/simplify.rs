@@ -1,7 +1,7 @@
 //! Properties of crest-line-guided simplification on generated shapes with known creases.
 
 use crestline::distance::{DistanceOptions, feature_distance};
-use crestline::lines::FeatureLines;
+use crestline::lines::{FeatureLine, FeatureLines, LineKind};
 use crestline::mesh::{VertexKind, face_normals};
 use crestline::shapes;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
@@ -63,15 +63,9 @@ fn open_surface_keeps_its_boundary() {
         })
         .collect();
     let lines = FeatureLines {
-        lines: vec![crestline::lines::FeatureLine {
-            kind: crestline::lines::LineKind::Valley,
-            points: circle,
-            locations: Vec::new(),
-            closed: true,
+        lines: vec![FeatureLine {
             length: std::f64::consts::TAU * std::f64::consts::PI,
-            curvature_integral: 0.0,
-            strength: 0.0,
-            crease: false,
+            ..FeatureLine::new(LineKind::Valley, circle, true)
         }],
     };
     let options = SimplifyOptions::default().with_target(Target::Faces(400));
