@@ -46,6 +46,19 @@ pub fn octahedron() -> TriMesh {
     build(positions.into_iter().map(Vec3::from).collect(), faces)
 }
 
+/// The tetrahedron with corners at the origin, e_x, e_y and e_z (in that order), wound
+/// outward: the smallest closed mesh.
+pub fn tetrahedron() -> TriMesh {
+    let positions = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let faces = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    build(positions.into_iter().map(Vec3::from).collect(), faces)
+}
+
 /// An icosahedron subdivided `subdivisions` times, projected on the sphere of `radius`
 /// (20 · 4^s faces).
 pub fn icosphere(radius: f64, subdivisions: u32) -> TriMesh {

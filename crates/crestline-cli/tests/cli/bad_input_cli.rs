@@ -5,19 +5,15 @@
 // Test code: stopping loudly on the first surprise is the point.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use crate::common::crestline;
+use crate::common::{crestline, listing, s, shared_meshes_dir, stderr};
 use std::path::Path;
 use std::process::{Command, Output};
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 /// The run failed cleanly: status 1, stderr's last line an `error:` containing `words`,
 /// no panic.
 #[track_caller]
 fn failed_with(out: &Output, words: &[&str]) -> String {
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    let stderr = stderr(out);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     let last = stderr.lines().last().unwrap_or_default().to_string();
@@ -26,16 +22,6 @@ fn failed_with(out: &Output, words: &[&str]) -> String {
         assert!(last.contains(w), "{last} (wanted '{w}')");
     }
     last
-}
-
-/// Files in `dir`, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 const TETRA: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
@@ -197,8 +183,7 @@ fn awkward_meshes_run_through_extract() {
 /// fandisk subdivided `levels` times (4^levels times its 12,946 triangles) as binary PLY in
 /// `dir`: a mesh that takes the pipeline long enough to be stopped midway.
 fn big_fandisk(dir: &Path, levels: &str) -> std::path::PathBuf {
-    let fandisk =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+    let fandisk = shared_meshes_dir().join("fandisk.obj");
     let big = dir.join(format!("fandisk-{levels}.ply"));
     let run = crestline(&[
         "subdivide",
@@ -264,8 +249,7 @@ fn ctrl_c_during_the_work_leaves_no_output() {
 #[test]
 fn a_signal_while_writing_removes_the_temporary_file() {
     let dir = tempfile::tempdir().unwrap();
-    let fandisk =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+    let fandisk = shared_meshes_dir().join("fandisk.obj");
     let out_dir = dir.path().join("out");
     std::fs::create_dir(&out_dir).unwrap();
     let out = out_dir.join("fine.obj");
@@ -336,8 +320,7 @@ fn with_paths(command: &[&str], mesh: &Path, lines: &Path, out: &Path) -> Vec<St
 
 /// fandisk and its lines (JSON) in `dir`.
 fn fandisk_and_lines(dir: &Path) -> (std::path::PathBuf, std::path::PathBuf) {
-    let fandisk =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+    let fandisk = shared_meshes_dir().join("fandisk.obj");
     let mesh = dir.join("fandisk.obj");
     std::fs::copy(fandisk, &mesh).unwrap();
     let lines = dir.join("lines.json");

@@ -10,6 +10,8 @@ use crestline::lines::{FeatureLines, LineKind};
 use crestline::spatial::FaceGrid;
 use crestline::{TriMesh, Vec3, shapes};
 
+pub use super::files::{listing, shared_dir, shared_meshes_dir};
+
 /// Points spread over each triangle of `mesh` accepted by `keep` (6 per triangle: the
 /// centroid, three points towards the corners and three towards the edge midpoints).
 pub fn samples(mesh: &TriMesh, keep: impl Fn(usize) -> bool) -> Vec<Vec3> {
@@ -42,17 +44,6 @@ pub fn distance_to(mesh: &TriMesh, points: &[Vec3]) -> (f64, f64) {
         .collect();
     let mean = d.iter().sum::<f64>() / d.len() as f64;
     (mean, d.iter().copied().fold(0.0, f64::max))
-}
-
-/// The shared mesh folder (`../shared/data/meshes` beside the repository).
-pub fn shared_meshes_dir() -> std::path::PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
-    assert!(
-        dir.is_dir(),
-        "the real test meshes are missing: expected them in {} (see shared/data/README.md)",
-        dir.display()
-    );
-    dir
 }
 
 /// Loads one of the shared meshes by file name (panics with the reason when it cannot).
@@ -96,6 +87,25 @@ pub fn polyline_segments(points: &[Vec3], closed: bool) -> Vec<(Vec3, Vec3)> {
         n.saturating_sub(1)
     };
     (0..m).map(|i| (points[i], points[(i + 1) % n])).collect()
+}
+
+/// Points every `step` along each segment (midpoints of equal pieces), with the piece length.
+pub fn weighted_samples(
+    segments: impl IntoIterator<Item = [Vec3; 2]>,
+    step: f64,
+) -> Vec<(Vec3, f64)> {
+    let mut out = Vec::new();
+    for [a, b] in segments {
+        let length = (b - a).norm();
+        let n = (length / step).ceil().max(1.0) as usize;
+        for i in 0..n {
+            out.push((
+                a + (b - a) * ((i as f64 + 0.5) / n as f64),
+                length / n as f64,
+            ));
+        }
+    }
+    out
 }
 
 /// Distance from `p` to the nearest of `lines` (closed lines include their closing segment).
