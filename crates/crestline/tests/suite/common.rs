@@ -7,6 +7,7 @@
 
 use crestline::extract::{ExtractOptions, extract};
 use crestline::lines::{FeatureLines, LineKind};
+use crestline::simplify::{Simplified, SimplifyOptions, Target, simplify};
 use crestline::spatial::FaceGrid;
 use crestline::{TriMesh, Vec3, shapes};
 
@@ -64,6 +65,14 @@ pub fn sharp_edges(mesh: &TriMesh, degrees: f64) -> Vec<u32> {
             _ => false,
         })
         .collect()
+}
+
+/// `mesh` simplified to a tenth of its faces, the lines weighing `eta` (0: plain QEM).
+pub fn simplify_to_tenth(mesh: &TriMesh, lines: &FeatureLines, eta: f64) -> Simplified {
+    let options = SimplifyOptions::default()
+        .with_target(Target::Ratio(0.1))
+        .with_eta(eta);
+    simplify(mesh, lines, &options).unwrap()
 }
 
 /// Distance from `p` to the segment `ab`.

@@ -110,10 +110,7 @@ fn crest_lines_keep_detail_near_them() {
     let far = samples(&mesh, |f| d.face[f] > 0.1 * d.max);
     let mut errors = Vec::new();
     for eta in [0.0, 1.0, 2.0] {
-        let options = SimplifyOptions::default()
-            .with_target(Target::Ratio(0.1))
-            .with_eta(eta);
-        let r = simplify(&mesh, &lines, &options).unwrap();
+        let r = common::simplify_to_tenth(&mesh, &lines, eta);
         assert!(r.target_reached);
         let (near_mean, near_max) = distance_to(&r.mesh, &near);
         let (far_mean, far_max) = distance_to(&r.mesh, &far);
