@@ -476,14 +476,12 @@ mod tests {
 
     fn line(points: &[[f64; 2]]) -> FeatureLine {
         let points: Vec<Vec3> = points.iter().map(|p| Vec3::new(p[0], p[1], 0.0)).collect();
-        let line = FeatureLine {
+        let mut line = FeatureLine {
             locations: vec![SurfacePoint::Vertex(0); points.len()],
             ..FeatureLine::new(LineKind::Ridge, points, false)
         };
-        FeatureLine {
-            strength: line.length * line.length,
-            ..line
-        }
+        line.strength = line.length * line.length;
+        line
     }
 
     #[test]

@@ -6,7 +6,7 @@
 #![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use crestline::extract::{ExtractOptions, extract};
-use crestline::lines::{FeatureLines, LineKind};
+use crestline::lines::{FeatureLine, FeatureLines, LineKind};
 use crestline::simplify::{Simplified, SimplifyOptions, Target, simplify};
 use crestline::spatial::FaceGrid;
 use crestline::{TriMesh, Vec3, shapes};
@@ -96,6 +96,18 @@ pub fn polyline_segments(points: &[Vec3], closed: bool) -> Vec<(Vec3, Vec3)> {
         n.saturating_sub(1)
     };
     (0..m).map(|i| (points[i], points[(i + 1) % n])).collect()
+}
+
+/// A closed line of `kind`: the circle of `radius` around the z axis at height `z`, through
+/// `n` points.
+pub fn circle(kind: LineKind, radius: f64, z: f64, n: usize) -> FeatureLine {
+    let points = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            Vec3::new(radius * a.cos(), radius * a.sin(), z)
+        })
+        .collect();
+    FeatureLine::new(kind, points, true)
 }
 
 /// Points every `step` along each segment (midpoints of equal pieces), with the piece length.
