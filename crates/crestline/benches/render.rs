@@ -16,25 +16,18 @@ fn latitude_lines() -> FeatureLines {
         .map(|i| {
             let z = -1.0 + 2.0 * f64::from(i) / 65.0;
             let r = (1.0 - z * z).sqrt();
-            FeatureLine {
-                kind: if i % 2 == 0 {
-                    LineKind::Ridge
-                } else {
-                    LineKind::Valley
-                },
-                points: (0..512)
-                    .map(|k| {
-                        let a = std::f64::consts::TAU * f64::from(k) / 512.0;
-                        Vec3::new(r * a.cos(), r * a.sin(), z)
-                    })
-                    .collect(),
-                locations: vec![],
-                closed: true,
-                length: 0.0,
-                curvature_integral: 0.0,
-                strength: 0.0,
-                crease: false,
-            }
+            let kind = if i % 2 == 0 {
+                LineKind::Ridge
+            } else {
+                LineKind::Valley
+            };
+            let points = (0..512)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * f64::from(k) / 512.0;
+                    Vec3::new(r * a.cos(), r * a.sin(), z)
+                })
+                .collect();
+            FeatureLine::new(kind, points, true)
         })
         .collect();
     FeatureLines { lines }

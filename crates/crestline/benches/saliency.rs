@@ -9,28 +9,17 @@
 //! The curvature (cubic fit, as the saliency method uses) is computed once, outside the
 //! timing.
 
-use std::path::PathBuf;
+mod common;
 
 use crestline::TriMesh;
 use crestline::curvature::{CurvatureOptions, Estimator, estimate};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
-use crestline::shapes::{self, GridPattern};
 use crestline::threshold::{KneeSearch, seek_threshold};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 
 fn meshes() -> Vec<(String, TriMesh)> {
-    let mut out = Vec::new();
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
-    for name in ["igea.ply", "fandisk.obj"] {
-        match crestline::io::read_mesh(&dir.join(name), None) {
-            Ok(m) => out.push((name.to_string(), m)),
-            Err(e) => eprintln!("skipping {name}: {e}"),
-        }
-    }
-    out.push((
-        "torus-100k".to_string(),
-        shapes::torus_with(3.0, 1.0, 400, 250, GridPattern::Uniform),
-    ));
+    let mut out = common::shared_meshes(&["igea.ply", "fandisk.obj"]);
+    out.push(common::torus_100k());
     out
 }
 

@@ -9,8 +9,9 @@
 //!
 //! Run: `cargo bench -p crestline --bench simplify`. Figures go to `BENCHMARKS.md`.
 
+mod common;
+
 use std::hint::black_box;
-use std::path::Path;
 
 use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::extract::{ExtractOptions, extract};
@@ -37,13 +38,8 @@ fn pillow_box(c: &mut Criterion) {
 }
 
 fn igea(c: &mut Criterion) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/igea.ply");
-    let mesh = match crestline::io::read_mesh(&path, None) {
-        Ok(m) => m,
-        Err(e) => {
-            eprintln!("igea skipped: {e}");
-            return;
-        }
+    let Some((_, mesh)) = common::shared_meshes(&["igea.ply"]).pop() else {
+        return;
     };
     let lines = match extract(&mesh, &ExtractOptions::default()) {
         Ok(e) => e.lines,

@@ -409,14 +409,8 @@ mod tests {
         let length = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
         FeatureLines {
             lines: vec![FeatureLine {
-                kind: LineKind::Ridge,
-                points,
-                locations: Vec::new(),
-                closed,
                 length,
-                curvature_integral: 0.0,
-                strength: 0.0,
-                crease: false,
+                ..FeatureLine::new(LineKind::Ridge, points, closed)
             }],
         }
     }

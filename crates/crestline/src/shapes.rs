@@ -46,6 +46,19 @@ pub fn octahedron() -> TriMesh {
     build(positions.into_iter().map(Vec3::from).collect(), faces)
 }
 
+/// The tetrahedron with corners at the origin, e_x, e_y and e_z (in that order), wound
+/// outward: the smallest closed mesh.
+pub fn tetrahedron() -> TriMesh {
+    let positions = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let faces = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    build(positions.into_iter().map(Vec3::from).collect(), faces)
+}
+
 /// An icosahedron subdivided `subdivisions` times, projected on the sphere of `radius`
 /// (20 · 4^s faces).
 pub fn icosphere(radius: f64, subdivisions: u32) -> TriMesh {
@@ -373,15 +386,11 @@ pub fn tablet(radius: f64, length: f64, cap_radius: f64, n: usize) -> (TriMesh, 
         .into_iter()
         .map(|j| {
             let vertices: Vec<u32> = (0..n).map(|i| (1 + (j - 1) * n + i) as u32).collect();
+            let points = vertices.iter().map(|&v| mesh.position(v)).collect();
             FeatureLine {
-                kind: LineKind::Ridge,
-                points: vertices.iter().map(|&v| mesh.position(v)).collect(),
                 locations: vertices.into_iter().map(SurfacePoint::Vertex).collect(),
-                closed: true,
                 length: TAU * radius,
-                curvature_integral: 0.0,
-                strength: 0.0,
-                crease: false,
+                ..FeatureLine::new(LineKind::Ridge, points, true)
             }
         })
         .collect();
@@ -494,14 +503,9 @@ pub fn pillow_box(half: f64, bulge: f64, n: usize) -> (TriMesh, FeatureLines) {
                 .collect();
             let points: Vec<Vec3> = vertices.iter().map(|&v| positions[v as usize]).collect();
             lines.push(FeatureLine {
-                kind: LineKind::Ridge,
                 locations: vertices.into_iter().map(SurfacePoint::Vertex).collect(),
-                closed: false,
                 length: 2.0 * half,
-                curvature_integral: 0.0,
-                strength: 0.0,
-                points,
-                crease: false,
+                ..FeatureLine::new(LineKind::Ridge, points, false)
             });
         }
     }

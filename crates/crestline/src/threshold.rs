@@ -284,11 +284,16 @@ mod tests {
         assert_eq!(v.iter().filter(|&&x| x > t).count(), 30);
     }
 
-    #[test]
-    fn log_scale_finds_the_gap_between_weak_and_strong_lines() {
-        // 40 weak lines with strengths 1..10 spread evenly in log, 10 strong ones 100..1000.
+    /// 40 weak lines with strengths 1..10 spread evenly in log, 10 strong ones 100..1000.
+    fn weak_and_strong_strengths() -> Vec<f64> {
         let mut v: Vec<f64> = (0..40).map(|i| 10f64.powf(i as f64 / 40.0)).collect();
         v.extend((0..10).map(|i| 100.0 * 10f64.powf(i as f64 / 10.0)));
+        v
+    }
+
+    #[test]
+    fn log_scale_finds_the_gap_between_weak_and_strong_lines() {
+        let v = weak_and_strong_strengths();
         let t = seek_threshold(&v, &KneeSearch::for_strengths()).unwrap();
         assert!((8.0..100.0).contains(&t), "threshold {t}");
         assert_eq!(v.iter().filter(|&&x| x > t).count(), 10);
@@ -296,8 +301,7 @@ mod tests {
 
     #[test]
     fn choose_threshold_keeps_a_fixed_one_and_raises_a_knee_to_its_floor() {
-        let mut v: Vec<f64> = (0..40).map(|i| 10f64.powf(i as f64 / 40.0)).collect();
-        v.extend((0..10).map(|i| 100.0 * 10f64.powf(i as f64 / 10.0)));
+        let v = weak_and_strong_strengths();
         let fixed = choose_threshold(&v, &Threshold::Fixed(3.0), 0.0);
         assert_eq!((fixed.value, fixed.from_knee), (3.0, false));
         let search = KneeSearch::for_strengths();

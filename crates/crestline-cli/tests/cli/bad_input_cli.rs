@@ -5,19 +5,15 @@
 // Test code: stopping loudly on the first surprise is the point.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use crate::common::crestline;
-use std::path::Path;
+use crate::common::{crestline, crestline_ok, listing, s, shared_meshes_dir, stderr};
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 /// The run failed cleanly: status 1, stderr's last line an `error:` containing `words`,
 /// no panic.
 #[track_caller]
 fn failed_with(out: &Output, words: &[&str]) -> String {
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    let stderr = stderr(out);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     let last = stderr.lines().last().unwrap_or_default().to_string();
@@ -28,17 +24,14 @@ fn failed_with(out: &Output, words: &[&str]) -> String {
     last
 }
 
-/// Files in `dir`, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
 const TETRA: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+/// [`TETRA`] written as `tetra.obj` in `dir`.
+fn tetra_in(dir: &Path) -> PathBuf {
+    let mesh = dir.join("tetra.obj");
+    std::fs::write(&mesh, TETRA).unwrap();
+    mesh
+}
 
 #[test]
 fn a_missing_file_is_named_once_with_its_cause_said_once() {
@@ -105,8 +98,7 @@ fn malformed_files_in_every_format() {
 #[test]
 fn an_unwritable_output_leaves_nothing_behind() {
     let dir = tempfile::tempdir().unwrap();
-    let mesh = dir.path().join("tetra.obj");
-    std::fs::write(&mesh, TETRA).unwrap();
+    let mesh = tetra_in(dir.path());
     let nowhere = dir.path().join("no/such/folder/lines.obj");
     failed_with(
         &crestline(&["extract", s(&mesh), "-o", s(&nowhere), "-q"]),
@@ -126,14 +118,8 @@ fn an_unwritable_output_leaves_nothing_behind() {
 #[test]
 fn output_over_the_input_replaces_it_whole() {
     let dir = tempfile::tempdir().unwrap();
-    let mesh = dir.path().join("tetra.obj");
-    std::fs::write(&mesh, TETRA).unwrap();
-    let run = crestline(&["subdivide", s(&mesh), "-o", s(&mesh)]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    let mesh = tetra_in(dir.path());
+    crestline_ok(["subdivide", s(&mesh), "-o", s(&mesh)]);
     let back = crestline::io::read_mesh(&mesh, None).unwrap();
     assert_eq!(back.num_faces(), 16);
     assert_eq!(listing(dir.path()), vec!["tetra.obj"]);
@@ -142,8 +128,7 @@ fn output_over_the_input_replaces_it_whole() {
 #[test]
 fn a_bad_mask_file_names_its_line() {
     let dir = tempfile::tempdir().unwrap();
-    let mesh = dir.path().join("tetra.obj");
-    std::fs::write(&mesh, TETRA).unwrap();
+    let mesh = tetra_in(dir.path());
     let mask = dir.path().join("mask.txt");
     std::fs::write(&mask, "1\n1\nx\n1\n").unwrap();
     let out = dir.path().join("lines.obj");
@@ -152,12 +137,7 @@ fn a_bad_mask_file_names_its_line() {
         &["mask.txt: line 3", "non-numeric token 'x'"],
     );
     std::fs::write(&mask, "\u{feff}1\r\n1\r\n0.5\r\n1\r\n").unwrap();
-    let run = crestline(&["extract", s(&mesh), "--mask", s(&mask), "-o", s(&out), "-q"]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    crestline_ok(["extract", s(&mesh), "--mask", s(&mask), "-o", s(&out), "-q"]);
 }
 
 #[test]
@@ -181,7 +161,7 @@ fn awkward_meshes_run_through_extract() {
         std::fs::write(&path, text).unwrap();
         let out = dir.path().join(format!("{name}-lines.json"));
         let run = crestline(&["extract", s(&path), "-o", s(&out), "-q"]);
-        let stderr = String::from_utf8_lossy(&run.stderr);
+        let stderr = stderr(&run);
         assert!(!stderr.contains("panicked"), "{name}: {stderr}");
         if run.status.success() {
             let lines: serde_json::Value =
@@ -196,11 +176,10 @@ fn awkward_meshes_run_through_extract() {
 
 /// fandisk subdivided `levels` times (4^levels times its 12,946 triangles) as binary PLY in
 /// `dir`: a mesh that takes the pipeline long enough to be stopped midway.
-fn big_fandisk(dir: &Path, levels: &str) -> std::path::PathBuf {
-    let fandisk =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+fn big_fandisk(dir: &Path, levels: &str) -> PathBuf {
+    let fandisk = shared_meshes_dir().join("fandisk.obj");
     let big = dir.join(format!("fandisk-{levels}.ply"));
-    let run = crestline(&[
+    crestline_ok([
         "subdivide",
         s(&fandisk),
         "-o",
@@ -209,11 +188,6 @@ fn big_fandisk(dir: &Path, levels: &str) -> std::path::PathBuf {
         levels,
         "-q",
     ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
     big
 }
 
@@ -254,7 +228,7 @@ fn ctrl_c_during_the_work_leaves_no_output() {
         std::thread::sleep(std::time::Duration::from_millis(1500));
         send(signal, &child);
         let run = child.wait_with_output().unwrap();
-        let stderr = String::from_utf8_lossy(&run.stderr);
+        let stderr = stderr(&run);
         assert_eq!(run.status.code(), Some(status), "SIG{signal}: {stderr}");
         assert!(stderr.contains("interrupted"), "{stderr}");
         assert!(left_in(dir.path(), &[&mesh]).is_empty(), "SIG{signal}");
@@ -264,8 +238,7 @@ fn ctrl_c_during_the_work_leaves_no_output() {
 #[test]
 fn a_signal_while_writing_removes_the_temporary_file() {
     let dir = tempfile::tempdir().unwrap();
-    let fandisk =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+    let fandisk = shared_meshes_dir().join("fandisk.obj");
     let out_dir = dir.path().join("out");
     std::fs::create_dir(&out_dir).unwrap();
     let out = out_dir.join("fine.obj");
@@ -293,7 +266,7 @@ fn a_signal_while_writing_removes_the_temporary_file() {
         }
     }
     let run = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&run.stderr);
+    let stderr = stderr(&run);
     assert!(
         seen,
         "the run ended before its temporary file was seen: {stderr}"
@@ -335,9 +308,8 @@ fn with_paths(command: &[&str], mesh: &Path, lines: &Path, out: &Path) -> Vec<St
 }
 
 /// fandisk and its lines (JSON) in `dir`.
-fn fandisk_and_lines(dir: &Path) -> (std::path::PathBuf, std::path::PathBuf) {
-    let fandisk =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/fandisk.obj");
+fn fandisk_and_lines(dir: &Path) -> (PathBuf, PathBuf) {
+    let fandisk = shared_meshes_dir().join("fandisk.obj");
     let mesh = dir.join("fandisk.obj");
     std::fs::copy(fandisk, &mesh).unwrap();
     let lines = dir.join("lines.json");

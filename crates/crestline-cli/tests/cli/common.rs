@@ -1,12 +1,17 @@
 //! Helpers shared by the CLI test modules: running the `crestline` binary Cargo built for the
-//! tests, and the shared mesh folder.
+//! tests, and (from the library's tests, `files`) the shared mesh folder and a folder's
+//! listing.
 
 // Each test module uses a subset of these helpers.
 #![allow(dead_code, clippy::expect_used)]
 
 use std::ffi::OsStr;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
+
+#[path = "../../../crestline/tests/suite/files.rs"]
+mod files;
+pub use files::{listing, shared_meshes_dir};
 
 /// Runs `crestline` with `args` and returns what it did (whatever its exit code).
 pub fn crestline(args: &[&str]) -> Output {
@@ -51,15 +56,4 @@ pub fn fails(out: Output) -> String {
 /// A path as an argument.
 pub fn s(p: &Path) -> &str {
     p.to_str().expect("a UTF-8 path")
-}
-
-/// The shared mesh folder (`../shared/data/meshes` beside the repository).
-pub fn shared_meshes_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
-    assert!(
-        dir.is_dir(),
-        "the real test meshes are missing: expected them in {} (see shared/data/README.md)",
-        dir.display()
-    );
-    dir
 }

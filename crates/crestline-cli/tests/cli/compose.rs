@@ -9,7 +9,7 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
-use crate::common::{crestline as run, fails, ok, s, stderr};
+use crate::common::{crestline as run, fails, ok, s, shared_meshes_dir, stderr};
 use crestline::io::lines::read_lines;
 use crestline::io::{Format, WriteOptions, write_mesh};
 use crestline::lines::FeatureLines;
@@ -337,10 +337,7 @@ fn every_command_orients_the_mesh_as_extract_does() {
 
 #[test]
 fn the_library_and_the_cli_find_the_same_ridges_and_valleys_on_the_inward_horse() {
-    let horse = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes/horse.ply");
-    if !horse.exists() {
-        panic!("the shared meshes are missing: {}", horse.display());
-    }
+    let horse = shared_meshes_dir().join("horse.ply");
     let dir = tempfile::tempdir().unwrap();
     let out = ok(run(&[
         "extract",
@@ -464,8 +461,11 @@ fn a_batch_writes_one_file_per_mesh_and_reports_failures() {
     std::fs::create_dir(&inputs).unwrap();
     ellipsoid(&inputs, "ellipsoid.obj", false);
     ellipsoid(&inputs, "inward.obj", true);
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
-    std::fs::copy(shared.join("suzanne.obj"), inputs.join("suzanne.obj")).unwrap();
+    std::fs::copy(
+        shared_meshes_dir().join("suzanne.obj"),
+        inputs.join("suzanne.obj"),
+    )
+    .unwrap();
     let out_dir = dir.path().join("out");
     let out = ok(run(&[
         "extract",
@@ -515,7 +515,7 @@ fn a_batch_writes_one_file_per_mesh_and_reports_failures() {
     let err = fails(run(&[
         "extract",
         s(&inputs.join("suzanne.obj")),
-        s(&shared.join("suzanne.obj")),
+        s(&shared_meshes_dir().join("suzanne.obj")),
     ]));
     assert!(err.contains("would both write"), "{err}");
 }

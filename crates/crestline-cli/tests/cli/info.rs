@@ -4,17 +4,14 @@
 // Test code: stopping loudly on the first surprise is the point.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use crate::common::{crestline, shared_meshes_dir as meshes_dir, stderr};
+use crate::common::{crestline, crestline_ok, fails, s, shared_meshes_dir as meshes_dir};
 
 /// Runs `info` on a file with `contents` and returns the failed run's stderr.
 fn failing_info(name: &str, contents: &[u8]) -> String {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join(name);
     std::fs::write(&path, contents).unwrap();
-    let out = crestline(&["info", path.to_str().unwrap()]);
-    let err = stderr(&out);
-    assert!(!out.status.success(), "{name} should fail; stderr: {err}");
-    assert!(!err.contains("panicked"), "{name} panicked: {err}");
+    let err = fails(crestline(&["info", s(&path)]));
     assert!(err.contains(name), "{name} not named: {err}");
     err
 }
@@ -40,8 +37,7 @@ const KEYS: [&str; 15] = [
 #[test]
 fn info_json_reports_every_key() {
     let path = meshes_dir().join("suzanne.obj");
-    let out = crestline(&["info", path.to_str().unwrap(), "--json"]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    let out = crestline_ok(["info", s(&path), "--json"]);
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for key in KEYS {
         assert!(report.get(key).is_some(), "missing key {key} in {report}");
@@ -55,7 +51,7 @@ fn info_json_reports_every_key() {
 #[test]
 fn info_reads_binary_ply_and_forced_formats() {
     let horse = meshes_dir().join("horse.ply");
-    let out = crestline(&["info", horse.to_str().unwrap(), "--json"]);
+    let out = crestline_ok(["info", s(&horse), "--json"]);
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["faces"], 96_966);
 
@@ -63,8 +59,7 @@ fn info_reads_binary_ply_and_forced_formats() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("triangle.txt");
     std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
-    let out = crestline(&["info", path.to_str().unwrap(), "--input-format", "obj"]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    let out = crestline_ok(["info", s(&path), "--input-format", "obj"]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("faces                  1"), "{text}");
 }
@@ -107,7 +102,6 @@ fn empty_and_unknown_files_fail_cleanly() {
     assert!(err.contains("empty.stl: file: empty file"), "{err}");
     let err = failing_info("mesh.xyz", b"whatever");
     assert!(err.contains("unknown extension '.xyz'"), "{err}");
-    let out = crestline(&["info", "/nonexistent/none.obj"]);
-    assert!(!out.status.success());
-    assert!(stderr(&out).contains("/nonexistent/none.obj"));
+    let err = fails(crestline(&["info", "/nonexistent/none.obj"]));
+    assert!(err.contains("/nonexistent/none.obj"), "{err}");
 }

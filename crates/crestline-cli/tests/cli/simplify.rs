@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::common::{crestline, crestline_ok, stderr};
+use crate::common::{crestline, crestline_ok, s, stderr};
 use crestline::io::{Format, WriteOptions, read_mesh, write_mesh};
 
 /// Writes the pillow box (12 · 16² triangles) and its creases; returns (mesh, lines) paths.
@@ -18,10 +18,6 @@ fn pillow_box_files(dir: &Path) -> (PathBuf, PathBuf) {
     let file = std::fs::File::create(&lines_path).unwrap();
     crestline::io::lines::write_lines_obj(std::io::BufWriter::new(file), &lines).unwrap();
     (mesh_path, lines_path)
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 #[test]

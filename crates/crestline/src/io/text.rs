@@ -248,6 +248,27 @@ const EXACT_POWERS_OF_TEN: [f64; 23] = [
     1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
 ];
 
+/// The decimal digit `bytes[i]`, if it is one.
+#[inline]
+fn digit_at(bytes: &[u8], i: usize) -> Option<u8> {
+    bytes
+        .get(i)
+        .map(|b| b.wrapping_sub(b'0'))
+        .filter(|&d| d < 10)
+}
+
+/// Appends the decimal digits from `bytes[*i]` on to `significand` (wrapping), moving `i`
+/// past them; returns how many there were.
+#[inline]
+fn append_digits(bytes: &[u8], i: &mut usize, significand: &mut u64) -> usize {
+    let start = *i;
+    while let Some(d) = digit_at(bytes, *i) {
+        *significand = significand.wrapping_mul(10).wrapping_add(u64::from(d));
+        *i += 1;
+    }
+    *i - start
+}
+
 /// Clinger's fast path (W. D. Clinger, "How to Read Floating Point Numbers Accurately",
 /// PLDI 1990): when the decimal significand m fits in 53 bits and the power of ten 10^e has
 /// |e| <= 22, both are exact doubles and one IEEE multiplication or division rounds m·10^e
@@ -272,32 +293,14 @@ pub(crate) fn short_decimal_prefix(text: &[u8]) -> Option<(f64, usize)> {
     };
     let bytes = &text[sign_bytes..];
     let mut significand: u64 = 0;
-    let mut digits = 0usize;
     let mut i = 0;
-    while let Some(d) = bytes
-        .get(i)
-        .map(|b| b.wrapping_sub(b'0'))
-        .filter(|&d| d < 10)
-    {
-        significand = significand.wrapping_mul(10).wrapping_add(u64::from(d));
-        i += 1;
-    }
-    let integer_digits = i;
-    digits += integer_digits;
+    let integer_digits = append_digits(bytes, &mut i, &mut significand);
     let mut fraction_digits = 0usize;
     if bytes.get(i) == Some(&b'.') {
         i += 1;
-        while let Some(d) = bytes
-            .get(i)
-            .map(|b| b.wrapping_sub(b'0'))
-            .filter(|&d| d < 10)
-        {
-            significand = significand.wrapping_mul(10).wrapping_add(u64::from(d));
-            i += 1;
-            fraction_digits += 1;
-        }
+        fraction_digits = append_digits(bytes, &mut i, &mut significand);
     }
-    digits += fraction_digits;
+    let digits = integer_digits + fraction_digits;
     // 19 decimal digits always fit in a u64, so the wrapping arithmetic above was exact.
     if digits == 0 || digits > 19 || significand > 1 << 53 {
         return None;
@@ -312,11 +315,7 @@ pub(crate) fn short_decimal_prefix(text: &[u8]) -> Option<(f64, usize)> {
         };
         i = start;
         let mut value: i64 = 0;
-        while let Some(d) = bytes
-            .get(i)
-            .map(|b| b.wrapping_sub(b'0'))
-            .filter(|&d| d < 10)
-        {
+        while let Some(d) = digit_at(bytes, i) {
             // Anything past 4 digits is far outside the fast range; cap to avoid overflow.
             value = (value * 10 + i64::from(d)).min(100_000);
             i += 1;

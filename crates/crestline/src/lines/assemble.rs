@@ -126,12 +126,11 @@ pub fn chain_links(num_nodes: usize, links: &[(usize, usize)]) -> Vec<(Vec<usize
 /// A [`FeatureLine`] through `path`, with length and strengths.
 fn build_line(mesh: &TriMesh, family: &Family<'_>, path: &[Node], closed: bool) -> FeatureLine {
     let topo = mesh.topology();
+    let points = path
+        .iter()
+        .map(|&n| node_position(mesh, family, n))
+        .collect();
     let mut line = FeatureLine {
-        kind: family.kind,
-        points: path
-            .iter()
-            .map(|&n| node_position(mesh, family, n))
-            .collect(),
         locations: path
             .iter()
             .map(|&node| match node {
@@ -145,11 +144,7 @@ fn build_line(mesh: &TriMesh, family: &Family<'_>, path: &[Node], closed: bool) 
                 Node::Face(f) => SurfacePoint::Face { face: f },
             })
             .collect(),
-        closed,
-        length: 0.0,
-        curvature_integral: 0.0,
-        strength: 0.0,
-        crease: false,
+        ..FeatureLine::new(family.kind, points, closed)
     };
     measure_line(mesh, family, &mut line);
     line

@@ -226,16 +226,7 @@ fn join_angle(a: &End, b: &End, options: &GapJumping) -> Option<f64> {
 }
 
 fn empty_like(line: &FeatureLine) -> FeatureLine {
-    FeatureLine {
-        kind: line.kind,
-        points: Vec::new(),
-        locations: Vec::new(),
-        closed: false,
-        length: 0.0,
-        curvature_integral: 0.0,
-        strength: 0.0,
-        crease: false,
-    }
+    FeatureLine::new(line.kind, Vec::new(), false)
 }
 
 #[cfg(test)]
@@ -276,14 +267,13 @@ mod tests {
 
         fn line(&self, pts: &[(f64, f64)]) -> FeatureLine {
             FeatureLine {
-                kind: LineKind::Ridge,
-                points: pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
                 locations: pts.iter().map(|&(x, y)| self.locate(x, y)).collect(),
-                closed: false,
                 length: 0.0,
-                curvature_integral: 0.0,
-                strength: 0.0,
-                crease: false,
+                ..FeatureLine::new(
+                    LineKind::Ridge,
+                    pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
+                    false,
+                )
             }
         }
 

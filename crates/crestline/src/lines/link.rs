@@ -320,23 +320,10 @@ impl CrestGraph<'_> {
     fn line_of(&self, (path, closed): &(Vec<usize>, bool)) -> FeatureLine {
         let line_kind = self.kind[path[0]];
         let family = Family::of(self.curvature, line_kind);
+        let crests = || path.iter().filter_map(|&v| self.crest[v]);
         let mut line = FeatureLine {
-            kind: line_kind,
-            points: path
-                .iter()
-                .filter_map(|&v| self.crest[v])
-                .map(|c| c.position)
-                .collect(),
-            locations: path
-                .iter()
-                .filter_map(|&v| self.crest[v])
-                .map(|c| c.location)
-                .collect(),
-            closed: *closed,
-            length: 0.0,
-            curvature_integral: 0.0,
-            strength: 0.0,
-            crease: false,
+            locations: crests().map(|c| c.location).collect(),
+            ..FeatureLine::new(line_kind, crests().map(|c| c.position).collect(), *closed)
         };
         measure_line(self.mesh, &family, &mut line);
         line
@@ -489,17 +476,12 @@ mod tests {
 
     fn line(points: &[[f64; 2]]) -> FeatureLine {
         let points: Vec<Vec3> = points.iter().map(|p| Vec3::new(p[0], p[1], 0.0)).collect();
-        let length = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-        FeatureLine {
-            kind: LineKind::Ridge,
+        let mut line = FeatureLine {
             locations: vec![SurfacePoint::Vertex(0); points.len()],
-            points,
-            closed: false,
-            length,
-            curvature_integral: 0.0,
-            strength: length * length,
-            crease: false,
-        }
+            ..FeatureLine::new(LineKind::Ridge, points, false)
+        };
+        line.strength = line.length * line.length;
+        line
     }
 
     #[test]

@@ -29,7 +29,7 @@
 //! ∫|k|ds by the ratio).
 
 use super::crease::Creases;
-use super::{FeatureLine, FeatureLines, SurfacePoint};
+use super::{FeatureLine, FeatureLines, SurfacePoint, polyline_length};
 use crate::error::{Error, Result};
 use crate::mesh::widest_side;
 use crate::mesh::{TriMesh, Vec3};
@@ -324,18 +324,16 @@ fn cut_line(
         }
         let run = &order[first..k];
         let mut piece = FeatureLine {
-            kind: line.kind,
-            points: run.iter().map(|&i| line.points[i]).collect(),
             locations: if has_locations {
                 run.iter().map(|&i| line.locations[i]).collect()
             } else {
                 Vec::new()
             },
-            closed: false,
-            length: 0.0,
-            curvature_integral: 0.0,
-            strength: 0.0,
-            crease: false,
+            ..FeatureLine::new(
+                line.kind,
+                run.iter().map(|&i| line.points[i]).collect(),
+                false,
+            )
         };
         // Ends where the line was cut go to the crease point nearest to the point cut next
         // to them; the line's own ends when they are within the join distance.
@@ -351,7 +349,6 @@ fn cut_line(
             (*piece.points.last().unwrap_or(&anchor), join)
         };
         join_end(&mut piece, samples, anchor, radius, false);
-        piece.length = polyline_length(&piece.points, false);
         if piece.length >= min_length && piece.points.len() >= 2 {
             let ratio = if line.length > 0.0 {
                 (piece.length / line.length).min(1.0)
@@ -423,7 +420,7 @@ impl Support<'_> {
 }
 
 /// Extends `line` at its start (or end) to the crease sample nearest to `anchor`, if there is
-/// one within `radius` of it. `anchor` is the line's end itself, or for a cut end the point
+/// one within `radius` of it, and updates its length. `anchor` is the line's end itself, or for a cut end the point
 /// cut next to it (which is within the tolerance of the crease).
 fn join_end(
     line: &mut FeatureLine,
@@ -458,14 +455,6 @@ fn join_end(
     line.length = polyline_length(&line.points, line.closed);
 }
 
-fn polyline_length(points: &[Vec3], closed: bool) -> f64 {
-    let open: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-    match (closed, points.first(), points.last()) {
-        (true, Some(a), Some(b)) if points.len() > 2 => open + (a - b).norm(),
-        _ => open,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -494,14 +483,10 @@ mod tests {
     fn line(points: &[[f64; 2]], crease: bool) -> FeatureLine {
         let points: Vec<Vec3> = points.iter().map(|p| Vec3::new(p[0], p[1], 0.0)).collect();
         FeatureLine {
-            kind: LineKind::Ridge,
-            length: polyline_length(&points, false),
-            points,
-            locations: Vec::new(),
-            closed: false,
             curvature_integral: 1.0,
             strength: 1.0,
             crease,
+            ..FeatureLine::new(LineKind::Ridge, points, false)
         }
     }
 

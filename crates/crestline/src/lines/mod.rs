@@ -92,6 +92,23 @@ pub struct FeatureLine {
 }
 
 impl FeatureLine {
+    /// A line through `points` known by its points alone (a line read from a file, or drawn
+    /// by hand): its length from the points (with the closing segment when `closed`), no
+    /// mesh locations, zero curvature integral and strength, not a crease. Other values go
+    /// in with struct update syntax: `FeatureLine { strength, ..FeatureLine::new(..) }`.
+    pub fn new(kind: LineKind, points: Vec<Vec3>, closed: bool) -> Self {
+        FeatureLine {
+            kind,
+            length: polyline_length(&points, closed),
+            points,
+            locations: Vec::new(),
+            closed,
+            curvature_integral: 0.0,
+            strength: 0.0,
+            crease: false,
+        }
+    }
+
     /// The name files and bindings use for the line's class: `"ridge"`, `"valley"`,
     /// `"crease-ridge"` or `"crease-valley"`.
     pub fn kind_name(&self) -> &'static str {
@@ -101,6 +118,15 @@ impl FeatureLine {
             (LineKind::Ridge, true) => "crease-ridge",
             (LineKind::Valley, true) => "crease-valley",
         }
+    }
+}
+
+/// Length of a polyline, with the closing segment when `closed`.
+pub(crate) fn polyline_length(points: &[Vec3], closed: bool) -> f64 {
+    let open: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    match (closed, points.first(), points.last()) {
+        (true, Some(first), Some(last)) => open + (*first - *last).norm(),
+        _ => open,
     }
 }
 

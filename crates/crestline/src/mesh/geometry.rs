@@ -179,22 +179,9 @@ pub fn mean_edge_length(mesh: &TriMesh) -> f64 {
 mod tests {
     use super::*;
 
-    fn tetra() -> TriMesh {
-        TriMesh::from_arrays(
-            vec![
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, 0.0, 1.0],
-            ],
-            vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-        )
-        .unwrap()
-    }
-
     #[test]
     fn tetra_normals_point_outward() {
-        let m = tetra();
+        let m = crate::shapes::tetrahedron();
         let c = Vec3::new(0.25, 0.25, 0.25);
         for (v, n) in vertex_normals_max(&m).iter().enumerate() {
             assert!((n.norm() - 1.0).abs() < 1e-12);
@@ -230,7 +217,7 @@ mod tests {
 
     #[test]
     fn bbox_and_edge_length() {
-        let m = tetra();
+        let m = crate::shapes::tetrahedron();
         let b = m.bounding_box();
         assert_eq!(b.min, [0.0; 3]);
         assert_eq!(b.max, [1.0; 3]);

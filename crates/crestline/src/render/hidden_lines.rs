@@ -217,16 +217,11 @@ mod tests {
     }
 
     fn feature_line(points: &[[f64; 3]], closed: bool) -> FeatureLine {
-        FeatureLine {
-            kind: LineKind::Ridge,
-            points: points.iter().map(|&p| Vec3::from(p)).collect(),
-            locations: vec![],
+        FeatureLine::new(
+            LineKind::Ridge,
+            points.iter().map(|&p| Vec3::from(p)).collect(),
             closed,
-            length: 0.0,
-            curvature_integral: 0.0,
-            strength: 0.0,
-            crease: false,
-        }
+        )
     }
 
     #[test]

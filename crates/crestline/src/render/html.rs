@@ -274,20 +274,12 @@ mod tests {
     #[test]
     fn embeds_mesh_lines_and_colours_compactly() {
         let m = quad();
-        let line = FeatureLine {
-            kind: LineKind::Ridge,
-            points: vec![
-                Vec3::new(0.0, 0.0, 0.0),
-                Vec3::new(2.0, 2.0, 0.0),
-                Vec3::new(0.0, 2.0, 0.0),
-            ],
-            locations: vec![],
-            closed: true,
-            length: 0.0,
-            curvature_integral: 0.0,
-            strength: 0.0,
-            crease: false,
-        };
+        let points = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(2.0, 2.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+        ];
+        let line = FeatureLine::new(LineKind::Ridge, points, true);
         let lines = FeatureLines { lines: vec![line] };
         let field = [0.0, 1.0, 2.0, 3.0];
         let html = render_html(&m, Some(&lines), Some(&field), &RenderOptions::default()).unwrap();

@@ -2,19 +2,21 @@
 
 use super::sums::{Gaussians, exp_neg_small};
 use super::*;
-use crate::curvature::{CurvatureOptions, estimate};
+use crate::curvature::{Curvature, CurvatureOptions, Estimator, estimate};
 use crate::mesh::Vec3;
 use crate::shapes;
+
+/// The curvature of `mesh` by the HPW shape operator.
+fn shape_operator(mesh: &TriMesh) -> Curvature {
+    let options = CurvatureOptions::default().with_estimator(Estimator::ShapeOperator);
+    estimate(mesh, &options).unwrap()
+}
 
 #[test]
 fn crease_is_more_salient_than_a_flat_region() {
     // A roof: two planes meeting at a crease along x = 0.
     let mesh = shapes::height_field(|x, _| -x.abs() * 0.8, [-2.0, 2.0], [-2.0, 2.0], 40, 40);
-    let c = estimate(
-        &mesh,
-        &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
-    )
-    .unwrap();
+    let c = shape_operator(&mesh);
     let s = mesh_saliency(&mesh, &c, &SaliencyOptions::default()).unwrap();
     let at = |x: f64, y: f64| {
         (0..mesh.num_vertices())
@@ -87,11 +89,7 @@ fn sphere_and_torus_saliency_have_no_knee() {
     // Curv is 1/r on a sphere and 1/r_minor on a torus (the tube curvature dominates), so
     // the sorted saliency has no steep part and the knee search finds no threshold.
     for mesh in [shapes::icosphere(2.0, 3), shapes::torus(3.0, 1.0, 90, 30)] {
-        let c = estimate(
-            &mesh,
-            &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
-        )
-        .unwrap();
+        let c = shape_operator(&mesh);
         let s = mesh_saliency(&mesh, &c, &SaliencyOptions::default()).unwrap();
         let knee = crate::threshold::seek_threshold(&s.saliency, &Default::default());
         assert_eq!(
@@ -106,11 +104,7 @@ fn sphere_and_torus_saliency_have_no_knee() {
 #[test]
 fn sphere_saliency_is_uniform() {
     let mesh = shapes::icosphere(2.0, 3);
-    let c = estimate(
-        &mesh,
-        &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
-    )
-    .unwrap();
+    let c = shape_operator(&mesh);
     let s = mesh_saliency(&mesh, &c, &SaliencyOptions::default()).unwrap();
     let max = s.saliency.iter().cloned().fold(f64::MIN, f64::max);
     let min = s.saliency.iter().cloned().fold(f64::MAX, f64::min);
@@ -148,11 +142,7 @@ fn brute_force_variation(mesh: &TriMesh, curv: &[f64], sigma: f64, scales: usize
 fn variation_matches_the_brute_force_sums() {
     // An irregular field on an ellipsoid, every number of scales.
     let mesh = shapes::ellipsoid(2.0, 1.5, 1.0, 3);
-    let c = estimate(
-        &mesh,
-        &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
-    )
-    .unwrap();
+    let c = shape_operator(&mesh);
     let sigma = 0.7 * mean_edge_length(&mesh);
     let curv: Vec<f64> = (0..mesh.num_vertices())
         .map(|v| c.k_max[v].abs().max(c.k_min[v].abs()))
@@ -174,11 +164,7 @@ fn variation_does_not_depend_on_the_thread_count() {
     // Each pair is weighted once and its weights are added to both ends, by tasks that
     // run in parallel: the sums must still come out bit for bit the same.
     let mesh = shapes::ellipsoid(2.0, 1.5, 1.0, 4);
-    let c = estimate(
-        &mesh,
-        &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
-    )
-    .unwrap();
+    let c = shape_operator(&mesh);
     let sigma = 0.5 * mean_edge_length(&mesh);
     // Cells of σ_4 = 4σ along the longest axis (x, 4 long): at least three layers per
     // phase, so several tasks write to the same sums.
@@ -246,11 +232,7 @@ fn unreferenced_vertices_take_no_part() {
     let mut positions = mesh.positions().to_vec();
     positions.push(Vec3::new(0.01, 0.02, 0.0));
     let with_stray = TriMesh::new(positions, mesh.faces().to_vec()).unwrap();
-    let c = estimate(
-        &mesh,
-        &CurvatureOptions::default().with_estimator(crate::curvature::Estimator::ShapeOperator),
-    )
-    .unwrap();
+    let c = shape_operator(&mesh);
     let mut c2 = c.clone();
     for field in [&mut c2.k_max, &mut c2.k_min, &mut c2.e_max, &mut c2.e_min] {
         field.push(100.0);

@@ -479,16 +479,7 @@ mod tests {
 
     #[test]
     fn tetrahedron_cannot_collapse() {
-        let m = TriMesh::from_arrays(
-            vec![
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, 0.0, 1.0],
-            ],
-            vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-        )
-        .unwrap();
+        let m = crate::shapes::tetrahedron();
         let r = decimate(&m, &[1.0; 4], &options(Target::Faces(2))).unwrap();
         assert_eq!(r.faces_after, 4);
         assert!(!r.target_reached);

@@ -103,6 +103,20 @@ pub(super) fn crlf(text: &str) -> String {
     text.replace('\n', "\r\n")
 }
 
+/// [`reads`] of `text` as it is, with CRLF line ends, after a byte order mark, and both.
+pub(super) fn reads_with_crlf_and_bom(
+    name: &str,
+    text: &str,
+    vertices: usize,
+    faces: usize,
+    degenerate: usize,
+) {
+    reads(name, text, vertices, faces, degenerate);
+    reads(name, crlf(text), vertices, faces, degenerate);
+    reads(name, with_bom(text), vertices, faces, degenerate);
+    reads(name, with_bom(&crlf(text)), vertices, faces, degenerate);
+}
+
 /// A tetrahedron (closed, outward) as OBJ.
 pub(super) const TETRA_OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
                          f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
@@ -285,9 +299,7 @@ fn obj_vertices_only_is_a_mesh_without_triangles() {
 
 #[test]
 fn obj_crlf_bom_and_comments_anywhere() {
-    reads("a.obj", crlf(TETRA_OBJ), 4, 4, 0);
-    reads("a.obj", with_bom(TETRA_OBJ), 4, 4, 0);
-    reads("a.obj", with_bom(&crlf(TETRA_OBJ)), 4, 4, 0);
+    reads_with_crlf_and_bom("a.obj", TETRA_OBJ, 4, 4, 0);
     let commented = "# head\n  # indented\nv 0 0 0 # origin\n#v 9 9 9\nv 1 0 0\t# x\nv 0 1 0\n\
                      v 0 0 1\n# faces\nf 1 3 2 # one\nf 1 2 4 #two\nf 1 4 3\n\nf 2 3 4\n# end";
     reads("a.obj", commented, 4, 4, 0);
@@ -575,8 +587,7 @@ fn ply_tristrips() {
 #[test]
 fn ply_crlf_bom_comments_and_skipped_elements() {
     let text = PLY_HEAD.to_string() + TRIANGLE_BODY;
-    reads("a.ply", crlf(&text), 3, 1, 0);
-    reads("a.ply", with_bom(&text), 3, 1, 0);
+    reads_with_crlf_and_bom("a.ply", &text, 3, 1, 0);
     let commented = text
         .replace("format", "comment made by hand\nformat")
         .replace(
@@ -720,9 +731,7 @@ fn off_bad_records() {
 
 #[test]
 fn off_polygons_colours_crlf_bom_and_comments() {
-    reads("a.off", TETRA_OFF, 4, 4, 0);
-    reads("a.off", crlf(TETRA_OFF), 4, 4, 0);
-    reads("a.off", with_bom(TETRA_OFF), 4, 4, 0);
+    reads_with_crlf_and_bom("a.off", TETRA_OFF, 4, 4, 0);
     let commented = "# head\nOFF # keyword\n\n# counts next\n4 4 6\n0 0 0 # v0\n# between\n\
                      1 0 0\n0 1 0\n\n0 0 1\n3 0 2 1 # f0\n3 0 1 3\n# x\n3 0 3 2\n3 1 2 3\n";
     reads("a.off", commented, 4, 4, 0);

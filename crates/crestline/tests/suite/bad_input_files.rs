@@ -15,7 +15,10 @@ use crestline::io::{Format, PlyEncoding, WriteOptions, read_mesh, write_mesh, wr
 use crestline::mesh::{EdgeKind, VertexKind, orient_outward};
 use crestline::{TriMesh, shapes};
 
-use super::bad_input::{TETRA_OBJ, TRIANGLE, crlf, every_prefix, fails, reads, with_bom};
+use super::bad_input::{
+    TETRA_OBJ, TRIANGLE, crlf, every_prefix, fails, reads, reads_with_crlf_and_bom, with_bom,
+};
+use crate::common::listing;
 
 /// A binary STL of `triangles` whose header declares `declared` triangles.
 fn binary_stl(declared: u32, triangles: &[[[f32; 3]; 3]]) -> Vec<u8> {
@@ -107,9 +110,7 @@ fn stl_bad_values() {
 
 #[test]
 fn stl_polygons_crlf_bom_and_degenerate_facets() {
-    reads("a.stl", STL_ASCII, 3, 1, 0);
-    reads("a.stl", crlf(STL_ASCII), 3, 1, 0);
-    reads("a.stl", with_bom(STL_ASCII), 3, 1, 0);
+    reads_with_crlf_and_bom("a.stl", STL_ASCII, 3, 1, 0);
     let quad = STL_ASCII.replace("vertex 0 1 0\n", "vertex 1 1 0\nvertex 0 1 0\n");
     reads("a.stl", quad, 4, 2, 0);
     let sliver = STL_ASCII.replace("vertex 0 1 0", "vertex 2 0 0");
@@ -234,16 +235,6 @@ fn missing_file_and_directory_as_input() {
     assert!(e.contains("directory"), "{e}");
 }
 
-/// Files in `dir`, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
 #[test]
 fn unwritable_outputs_leave_nothing_behind() {
     let dir = tempfile::tempdir().unwrap();
@@ -313,17 +304,15 @@ fn a_failed_write_keeps_the_old_file() {
     // replaces the old file.
     let bad = FeatureLines {
         lines: vec![FeatureLine {
-            kind: LineKind::Ridge,
-            points: vec![
-                crestline::Vec3::zeros(),
-                crestline::Vec3::new(f64::NAN, 0.0, 0.0),
-            ],
-            locations: Vec::new(),
-            closed: false,
             length: f64::NAN,
-            curvature_integral: 0.0,
-            strength: 0.0,
-            crease: false,
+            ..FeatureLine::new(
+                LineKind::Ridge,
+                vec![
+                    crestline::Vec3::zeros(),
+                    crestline::Vec3::new(f64::NAN, 0.0, 0.0),
+                ],
+                false,
+            )
         }],
     };
     for name in ["lines.json", "lines.obj", "lines.ply"] {

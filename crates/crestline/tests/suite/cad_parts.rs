@@ -7,13 +7,12 @@
 //! when they were set.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::path::{Path, PathBuf};
-
 use crestline::extract::{ExtractOptions, Method, extract};
 use crestline::lines::LineKind;
 use crestline::{TriMesh, Vec3};
 
-use super::quality_cases::{covered, line_segments, sample};
+use super::quality_cases::{covered, line_segments, precision_recall_f1};
+use crate::common;
 
 const PARTS: [&str; 8] = [
     "dome_cap",
@@ -26,19 +25,9 @@ const PARTS: [&str; 8] = [
     "star_prism",
 ];
 
-fn cad_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/quality/cad");
-    assert!(
-        dir.is_dir(),
-        "the CAD parts are missing: expected them in {} (shared/ beside the repository)",
-        dir.display()
-    );
-    dir
-}
-
 /// The mesh and its exact sharp edges as segments.
 fn load(name: &str) -> (TriMesh, Vec<[Vec3; 2]>) {
-    let dir = cad_dir();
+    let dir = common::shared_dir("quality/cad");
     let mesh = crestline::io::read_mesh(&dir.join(format!("{name}.obj")), None).unwrap();
     let text = std::fs::read_to_string(dir.join(format!("{name}.fea"))).unwrap();
     let mut numbers = text.split_whitespace().map(|w| w.parse::<usize>().unwrap());
@@ -61,17 +50,12 @@ fn f1(method: Method, name: &str) -> f64 {
         .into_iter()
         .flat_map(|kind| line_segments(&result.lines, kind))
         .collect();
-    let detected = sample(detected.into_iter(), tau / 4.0);
-    let exact = sample(sharp.into_iter(), tau / 4.0);
-    let (p_near, p_total) = covered(&detected, &exact, tau);
-    let (r_near, r_total) = covered(&exact, &detected, tau);
-    let precision = if p_total > 0.0 { p_near / p_total } else { 0.0 };
-    let recall = if r_total > 0.0 { r_near / r_total } else { 0.0 };
-    let f1 = if precision + recall > 0.0 {
-        2.0 * precision * recall / (precision + recall)
-    } else {
-        0.0
-    };
+    let detected = common::weighted_samples(detected, tau / 4.0);
+    let exact = common::weighted_samples(sharp, tau / 4.0);
+    let (precision, recall, f1) = precision_recall_f1(
+        covered(&detected, &exact, tau),
+        covered(&exact, &detected, tau),
+    );
     eprintln!("{method:?} {name}: P {precision:.3} R {recall:.3} F1 {f1:.3}");
     f1
 }

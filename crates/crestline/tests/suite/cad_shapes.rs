@@ -19,27 +19,19 @@ use crestline::lines::FeatureLines;
 use crestline::spatial::{FaceGrid, PointGrid};
 
 use super::cad_solids::{Solid, Tessellation, block, chamfered_block, solids};
+use crate::common;
 
 /// Scoring tolerance, relative to the diagonal.
 const TOLERANCE: f64 = 0.005;
 
 /// Points every `step` along polylines, each with the length it stands for.
 fn sample(polylines: &[(Vec<Vec3>, bool)], step: f64) -> (Vec<Vec3>, Vec<f64>) {
-    let (mut points, mut weights) = (Vec::new(), Vec::new());
-    for (line, closed) in polylines {
+    let segments = polylines.iter().flat_map(|(line, closed)| {
         let n = line.len();
-        let segments = if *closed { n } else { n.saturating_sub(1) };
-        for k in 0..segments {
-            let (p, q) = (line[k], line[(k + 1) % n]);
-            let length = (q - p).norm();
-            let m = ((length / step).ceil() as usize).max(1);
-            for s in 0..m {
-                points.push(p + (q - p) * ((s as f64 + 0.5) / m as f64));
-                weights.push(length / m as f64);
-            }
-        }
-    }
-    (points, weights)
+        let count = if *closed { n } else { n.saturating_sub(1) };
+        (0..count).map(move |k| [line[k], line[(k + 1) % n]])
+    });
+    common::weighted_samples(segments, step).into_iter().unzip()
 }
 
 /// What the lines of one solid score.

@@ -377,6 +377,20 @@ struct Profile {
     sharp: Vec<bool>,
 }
 
+/// `m` points at equal angles along the arc around `centre` from `angles[0]` to `angles[1]`,
+/// the last left out.
+fn arc_points(
+    centre: [f64; 2],
+    radius: f64,
+    [from, to]: [f64; 2],
+    m: usize,
+) -> impl Iterator<Item = [f64; 2]> {
+    (0..m).map(move |s| {
+        let a = from + (to - from) * s as f64 / m as f64;
+        [centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]
+    })
+}
+
 impl Profile {
     fn polygon(corners: &[[f64; 2]]) -> Self {
         Profile {
@@ -419,11 +433,8 @@ impl Profile {
                     to,
                 } => {
                     let m = b.arc_segments(radius, to - from, 3);
-                    for s in 0..m {
-                        let a = from + (to - from) * s as f64 / m as f64;
-                        points.push([centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]);
-                        straight.push(false);
-                    }
+                    points.extend(arc_points(centre, radius, [from, to], m));
+                    straight.extend(std::iter::repeat_n(false, m));
                 }
             }
         }
@@ -441,16 +452,9 @@ impl Profile {
                     radius,
                     from,
                     to,
-                } => {
-                    for s in 0..2000 {
-                        let a = from + (to - from) * s as f64 / 2000.0;
-                        out.push(Vec3::new(
-                            centre[0] + radius * a.cos(),
-                            centre[1] + radius * a.sin(),
-                            z,
-                        ));
-                    }
-                }
+                } => out.extend(
+                    arc_points(centre, radius, [from, to], 2000).map(|[x, y]| Vec3::new(x, y, z)),
+                ),
             }
         }
         out

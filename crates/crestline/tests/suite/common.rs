@@ -6,9 +6,12 @@
 #![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use crestline::extract::{ExtractOptions, extract};
-use crestline::lines::{FeatureLines, LineKind};
+use crestline::lines::{FeatureLine, FeatureLines, LineKind};
+use crestline::simplify::{Simplified, SimplifyOptions, Target, simplify};
 use crestline::spatial::FaceGrid;
 use crestline::{TriMesh, Vec3, shapes};
+
+pub use super::files::{listing, shared_dir, shared_meshes_dir};
 
 /// Points spread over each triangle of `mesh` accepted by `keep` (6 per triangle: the
 /// centroid, three points towards the corners and three towards the edge midpoints).
@@ -44,17 +47,6 @@ pub fn distance_to(mesh: &TriMesh, points: &[Vec3]) -> (f64, f64) {
     (mean, d.iter().copied().fold(0.0, f64::max))
 }
 
-/// The shared mesh folder (`../shared/data/meshes` beside the repository).
-pub fn shared_meshes_dir() -> std::path::PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/meshes");
-    assert!(
-        dir.is_dir(),
-        "the real test meshes are missing: expected them in {} (see shared/data/README.md)",
-        dir.display()
-    );
-    dir
-}
-
 /// Loads one of the shared meshes by file name (panics with the reason when it cannot).
 pub fn load_shared(name: &str) -> TriMesh {
     let path = shared_meshes_dir().join(name);
@@ -73,6 +65,14 @@ pub fn sharp_edges(mesh: &TriMesh, degrees: f64) -> Vec<u32> {
             _ => false,
         })
         .collect()
+}
+
+/// `mesh` simplified to a tenth of its faces, the lines weighing `eta` (0: plain QEM).
+pub fn simplify_to_tenth(mesh: &TriMesh, lines: &FeatureLines, eta: f64) -> Simplified {
+    let options = SimplifyOptions::default()
+        .with_target(Target::Ratio(0.1))
+        .with_eta(eta);
+    simplify(mesh, lines, &options).unwrap()
 }
 
 /// Distance from `p` to the segment `ab`.
@@ -96,6 +96,37 @@ pub fn polyline_segments(points: &[Vec3], closed: bool) -> Vec<(Vec3, Vec3)> {
         n.saturating_sub(1)
     };
     (0..m).map(|i| (points[i], points[(i + 1) % n])).collect()
+}
+
+/// A closed line of `kind`: the circle of `radius` around the z axis at height `z`, through
+/// `n` points.
+pub fn circle(kind: LineKind, radius: f64, z: f64, n: usize) -> FeatureLine {
+    let points = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            Vec3::new(radius * a.cos(), radius * a.sin(), z)
+        })
+        .collect();
+    FeatureLine::new(kind, points, true)
+}
+
+/// Points every `step` along each segment (midpoints of equal pieces), with the piece length.
+pub fn weighted_samples(
+    segments: impl IntoIterator<Item = [Vec3; 2]>,
+    step: f64,
+) -> Vec<(Vec3, f64)> {
+    let mut out = Vec::new();
+    for [a, b] in segments {
+        let length = (b - a).norm();
+        let n = (length / step).ceil().max(1.0) as usize;
+        for i in 0..n {
+            out.push((
+                a + (b - a) * ((i as f64 + 0.5) / n as f64),
+                length / n as f64,
+            ));
+        }
+    }
+    out
 }
 
 /// Distance from `p` to the nearest of `lines` (closed lines include their closing segment).

@@ -60,6 +60,20 @@ fn errors(
     exact::compare(m, c, &ex, keep, min_gap.max(0.0))
 }
 
+/// [`errors`] of `estimator` on a coarse and a fine mesh of the same surface.
+fn coarse_and_fine(
+    [coarse, fine]: [&TriMesh; 2],
+    estimator: fn(&TriMesh) -> Curvature,
+    ex: impl Fn(Vec3) -> ExactCurvature,
+    margin: u32,
+    min_gap: f64,
+) -> (CurvatureErrors, CurvatureErrors) {
+    (
+        errors(coarse, &estimator(coarse), &ex, margin, min_gap),
+        errors(fine, &estimator(fine), &ex, margin, min_gap),
+    )
+}
+
 pub(super) fn assert_all_finite(c: &Curvature, n: usize) {
     assert_eq!(c.len(), n);
     for v in 0..n {
@@ -102,21 +116,12 @@ fn sphere_error_shrinks_under_subdivision() {
     let ex = |p| exact::sphere(2.0, p);
     let (coarse, fine) = (shapes::icosphere(2.0, 3), shapes::icosphere(2.0, 4));
     // Shape operator: rms 0.012 → 0.006; the max stays at the valence-5 vertices (0.072).
-    let (a, b) = (
-        errors(&coarse, &so(&coarse), ex, 0, 0.0),
-        errors(&fine, &so(&fine), ex, 0, 0.0),
-    );
+    let (a, b) = coarse_and_fine([&coarse, &fine], so, ex, 0, 0.0);
     assert!(b.k_max.rms < 0.7 * a.k_max.rms, "{a:?}\n{b:?}");
     // Cubic fit: max 0.026 → 0.018 (0.006 → 0.002 without p → p').
-    let (a, b) = (
-        errors(&coarse, &cf(&coarse), ex, 0, 0.0),
-        errors(&fine, &cf(&fine), ex, 0, 0.0),
-    );
+    let (a, b) = coarse_and_fine([&coarse, &fine], cf, ex, 0, 0.0);
     assert!(b.k_max.max < 0.8 * a.k_max.max, "{a:?}\n{b:?}");
-    let (a, b) = (
-        errors(&coarse, &cf_raw(&coarse), ex, 0, 0.0),
-        errors(&fine, &cf_raw(&fine), ex, 0, 0.0),
-    );
+    let (a, b) = coarse_and_fine([&coarse, &fine], cf_raw, ex, 0, 0.0);
     assert!(b.k_max.max < 0.5 * a.k_max.max, "{a:?}\n{b:?}");
 }
 
@@ -253,8 +258,7 @@ fn ellipsoid_curvatures_and_directions() {
         ("shape operator", so as fn(&TriMesh) -> Curvature),
         ("cubic fit", cf),
     ] {
-        let ec = errors(&coarse, &estimator(&coarse), ex, 0, 0.05);
-        let ef = errors(&fine, &estimator(&fine), ex, 0, 0.05);
+        let (ec, ef) = coarse_and_fine([&coarse, &fine], estimator, ex, 0, 0.05);
         assert!(ef.k_max.rms < 0.02 && ef.k_min.rms < 0.02, "{name} {ef:?}");
         assert!(ef.k_max.max < 0.35 && ef.k_min.max < 0.15, "{name} {ef:?}");
         assert!(
@@ -317,8 +321,7 @@ fn torus_curvatures_directions_and_zero_extremality() {
         ("shape operator", so as fn(&TriMesh) -> Curvature),
         ("cubic fit", cf),
     ] {
-        let ec = errors(&coarse, &estimator(&coarse), ex, 0, 0.0);
-        let ef = errors(&fine, &estimator(&fine), ex, 0, 0.0);
+        let (ec, ef) = coarse_and_fine([&coarse, &fine], estimator, ex, 0, 0.0);
         assert!(ef.k_max.max < 0.05 && ef.k_min.max < 0.02, "{name} {ef:?}");
         assert!(ef.e_max.max < 0.01 && ef.e_min.max < 0.01, "{name} {ef:?}");
         assert!(
@@ -344,10 +347,7 @@ fn waving_surface_extremalities_converge_on_a_regular_grid() {
     let coarse = shapes::waving_surface_with(6.0, 60, GridPattern::Uniform);
     let fine = shapes::waving_surface_with(6.0, 120, GridPattern::Uniform);
     // Shape operator (60 → 120): k max 0.031 → 0.008, e max 0.16 → 0.047: O(h²).
-    let (a, b) = (
-        errors(&coarse, &so(&coarse), ex, 3, 0.05),
-        errors(&fine, &so(&fine), ex, 3, 0.05),
-    );
+    let (a, b) = coarse_and_fine([&coarse, &fine], so, ex, 3, 0.05);
     assert!(
         b.k_max.max < 0.015 && b.e_max.max < 0.08 && b.e_min.max < 0.08,
         "{b:?}"
@@ -360,10 +360,7 @@ fn waving_surface_extremalities_converge_on_a_regular_grid() {
     assert!(b.dir_max_deg.max < 1.0, "{b:?}");
     // Cubic fit (60 → 120): k max 0.045 → 0.012, e max 0.18 → 0.11 (e has an O(1) floor
     // of ≈ 0.09 at finer grids: the O(h²) error of the Max normals, divided by h²).
-    let (a, b) = (
-        errors(&coarse, &cf(&coarse), ex, 3, 0.05),
-        errors(&fine, &cf(&fine), ex, 3, 0.05),
-    );
+    let (a, b) = coarse_and_fine([&coarse, &fine], cf, ex, 3, 0.05);
     assert!(
         b.k_max.max < 0.02 && b.e_max.max < 0.17 && b.e_min.max < 0.19,
         "{b:?}"
@@ -387,20 +384,14 @@ fn waving_disk_as_in_ybs() {
         shapes::waving_disk(3.0 * PI, 56),
     );
     // Shape operator: e rms 0.090 → 0.026, k rms 0.012 → 0.003 (maxima sit on the seams).
-    let (a, b) = (
-        errors(&coarse, &so(&coarse), ex, 3, 0.05),
-        errors(&fine, &so(&fine), ex, 3, 0.05),
-    );
+    let (a, b) = coarse_and_fine([&coarse, &fine], so, ex, 3, 0.05);
     assert!(
         b.e_max.rms < 0.5 * a.e_max.rms && b.e_min.rms < 0.5 * a.e_min.rms,
         "{a:?}\n{b:?}"
     );
     assert!(b.k_max.rms < 0.5 * a.k_max.rms, "{a:?}\n{b:?}");
     // Cubic fit without p → p': e max 0.25 → 0.12, k max 0.064 → 0.019 (O(h)).
-    let (a, b) = (
-        errors(&coarse, &cf_raw(&coarse), ex, 3, 0.05),
-        errors(&fine, &cf_raw(&fine), ex, 3, 0.05),
-    );
+    let (a, b) = coarse_and_fine([&coarse, &fine], cf_raw, ex, 3, 0.05);
     assert!(
         b.e_max.max < 0.65 * a.e_max.max && b.e_min.max < 0.8 * a.e_min.max,
         "{a:?}\n{b:?}"
@@ -408,10 +399,7 @@ fn waving_disk_as_in_ybs() {
     assert!(b.k_max.max < 0.5 * a.k_max.max, "{a:?}\n{b:?}");
     // With p → p' (YBS as published): k converges (0.105 → 0.048) but e does not (0.40 →
     // 0.39 max, the seams' valence changes move p' differently); bound it at YBS's level.
-    let (a, b) = (
-        errors(&coarse, &cf(&coarse), ex, 3, 0.05),
-        errors(&fine, &cf(&fine), ex, 3, 0.05),
-    );
+    let (a, b) = coarse_and_fine([&coarse, &fine], cf, ex, 3, 0.05);
     assert!(b.k_max.max < 0.6 * a.k_max.max, "{a:?}\n{b:?}");
     assert!(a.e_max.max < 0.6 && a.e_min.max < 0.6, "{a:?}");
 }

@@ -11,9 +11,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use crestline::lines::{FeatureLine, FeatureLines, LineKind};
+use crestline::lines::{FeatureLines, LineKind};
 use crestline::render::{RenderOptions, UpAxis, write_html};
-use crestline::{Vec3, shapes};
+use crestline::shapes;
+
+use crate::common::circle;
 
 const CANDIDATES: [&str; 4] = [
     "chromium",
@@ -30,25 +32,6 @@ fn find_chromium() -> Option<PathBuf> {
     std::env::split_paths(&path)
         .flat_map(|dir| CANDIDATES.iter().map(move |name| dir.join(name)))
         .find(|p| p.is_file())
-}
-
-fn circle(kind: LineKind, radius: f64, z: f64) -> FeatureLine {
-    let n = 120;
-    FeatureLine {
-        kind,
-        points: (0..n)
-            .map(|i| {
-                let a = std::f64::consts::TAU * i as f64 / n as f64;
-                Vec3::new(radius * a.cos(), radius * a.sin(), z)
-            })
-            .collect(),
-        locations: vec![],
-        closed: true,
-        length: 0.0,
-        curvature_integral: 0.0,
-        strength: 0.0,
-        crease: false,
-    }
 }
 
 /// A fresh directory under the system's temporary folder.
@@ -154,9 +137,9 @@ fn viewer_draws_in_chromium_and_toggles_change_the_picture() {
     let mesh = shapes::torus(3.0, 1.0, 96, 48);
     let lines = FeatureLines {
         lines: vec![
-            circle(LineKind::Ridge, 4.0, 0.0),
-            circle(LineKind::Ridge, 3.0, 1.0),
-            circle(LineKind::Valley, 2.0, 0.0),
+            circle(LineKind::Ridge, 4.0, 0.0, 120),
+            circle(LineKind::Ridge, 3.0, 1.0, 120),
+            circle(LineKind::Valley, 2.0, 0.0, 120),
         ],
     };
     let field: Vec<f64> = mesh.positions().iter().map(|p| p.z).collect();

@@ -15,6 +15,7 @@ mod curvature_robust;
 mod extract;
 mod extract_real_meshes;
 mod extract_ybs;
+mod files;
 #[cfg(feature = "render")]
 mod html_viewer;
 mod invariance;

@@ -16,21 +16,17 @@
 //! lines, which `score.py` leaves out, keep their F1 lower here than in the benchmark).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use crestline::extract::{ExtractOptions, Method, extract};
 use crestline::lines::{FeatureLines, LineKind};
 use crestline::spatial::PointGrid;
 use crestline::{TriMesh, Vec3};
 
+use crate::common;
+
 fn cases_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/quality/cases");
-    assert!(
-        dir.is_dir(),
-        "the quality cases are missing: expected them in {} (shared/ beside the repository)",
-        dir.display()
-    );
-    dir
+    common::shared_dir("quality/cases")
 }
 
 fn load(case: &str) -> TriMesh {
@@ -83,33 +79,14 @@ fn truth(surface: &str) -> Vec<(LineKind, [Vec3; 2])> {
     segments
 }
 
-/// Points every `step` along each segment (midpoints of equal pieces), with the piece length.
-pub(super) fn sample(segments: impl Iterator<Item = [Vec3; 2]>, step: f64) -> Vec<(Vec3, f64)> {
-    let mut out = Vec::new();
-    for [a, b] in segments {
-        let length = (b - a).norm();
-        let n = (length / step).ceil().max(1.0) as usize;
-        for i in 0..n {
-            out.push((
-                a + (b - a) * ((i as f64 + 0.5) / n as f64),
-                length / n as f64,
-            ));
-        }
-    }
-    out
-}
-
-pub(super) fn line_segments(lines: &FeatureLines, kind: LineKind) -> Vec<[Vec3; 2]> {
-    let mut out = Vec::new();
-    for l in lines.of_kind(kind) {
-        for w in l.points.windows(2) {
-            out.push([w[0], w[1]]);
-        }
-        if l.closed && l.points.len() > 2 {
-            out.push([l.points[l.points.len() - 1], l.points[0]]);
-        }
-    }
-    out
+pub(super) fn line_segments(
+    lines: &FeatureLines,
+    kind: LineKind,
+) -> impl Iterator<Item = [Vec3; 2]> + '_ {
+    lines
+        .of_kind(kind)
+        .flat_map(|l| common::polyline_segments(&l.points, l.closed))
+        .map(|(a, b)| [a, b])
 }
 
 /// The share of the length of `from` within `tau` of `to`.
@@ -131,13 +108,22 @@ fn score(mesh: &TriMesh, lines: &FeatureLines, surface: &str) -> (f64, f64, f64)
     let exact = truth(surface);
     let (mut p_near, mut p_total, mut r_near, mut r_total) = (0.0, 0.0, 0.0, 0.0);
     for kind in [LineKind::Ridge, LineKind::Valley] {
-        let detected = sample(line_segments(lines, kind).into_iter(), tau / 4.0);
-        let reference = sample(exact.iter().filter(|s| s.0 == kind).map(|s| s.1), tau / 4.0);
+        let detected = common::weighted_samples(line_segments(lines, kind), tau / 4.0);
+        let reference =
+            common::weighted_samples(exact.iter().filter(|s| s.0 == kind).map(|s| s.1), tau / 4.0);
         let (n, t) = covered(&detected, &reference, tau);
         (p_near, p_total) = (p_near + n, p_total + t);
         let (n, t) = covered(&reference, &detected, tau);
         (r_near, r_total) = (r_near + n, r_total + t);
     }
+    precision_recall_f1((p_near, p_total), (r_near, r_total))
+}
+
+/// Precision, recall and F1 from the (near, total) lengths of the detected and the exact lines.
+pub(super) fn precision_recall_f1(
+    (p_near, p_total): (f64, f64),
+    (r_near, r_total): (f64, f64),
+) -> (f64, f64, f64) {
     let precision = if p_total > 0.0 { p_near / p_total } else { 0.0 };
     let recall = if r_total > 0.0 { r_near / r_total } else { 0.0 };
     let f1 = if precision + recall > 0.0 {

@@ -15,6 +15,8 @@ use crestline::render::{
 };
 use crestline::{TriMesh, Vec3, shapes};
 
+use crate::common;
+
 const SURFACE: [u8; 3] = [200, 200, 200];
 
 fn quad() -> TriMesh {
@@ -31,16 +33,7 @@ fn quad() -> TriMesh {
 }
 
 fn line(kind: LineKind, points: &[[f64; 3]]) -> FeatureLine {
-    FeatureLine {
-        kind,
-        points: points.iter().map(|&p| Vec3::from(p)).collect(),
-        locations: vec![],
-        closed: false,
-        length: 0.0,
-        curvature_integral: 0.0,
-        strength: 0.0,
-        crease: false,
-    }
+    FeatureLine::new(kind, points.iter().map(|&p| Vec3::from(p)).collect(), false)
 }
 
 fn flat_options() -> RenderOptions {
@@ -144,19 +137,7 @@ fn a_closed_mesh_hides_lines_on_its_far_side() {
     let sphere = shapes::icosphere(1.0, 4);
     // Two circles of latitude-like loops around the z axis, at z = +0.6 (near the camera)
     // and z = -0.6 (far side), both on the sphere.
-    let ring = |kind, z: f64| {
-        let r = (1.0f64 - z * z).sqrt();
-        let points: Vec<[f64; 3]> = (0..64)
-            .map(|i| {
-                let a = std::f64::consts::TAU * i as f64 / 64.0;
-                [r * a.cos(), r * a.sin(), z]
-            })
-            .collect();
-        FeatureLine {
-            closed: true,
-            ..line(kind, &points)
-        }
-    };
+    let ring = |kind, z: f64| common::circle(kind, (1.0f64 - z * z).sqrt(), z, 64);
     let lines = FeatureLines {
         lines: vec![ring(LineKind::Ridge, 0.6), ring(LineKind::Valley, -0.6)],
     };

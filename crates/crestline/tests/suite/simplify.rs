@@ -1,7 +1,7 @@
 //! Properties of crest-line-guided simplification on generated shapes with known creases.
 
 use crestline::distance::{DistanceOptions, feature_distance};
-use crestline::lines::FeatureLines;
+use crestline::lines::{FeatureLine, FeatureLines, LineKind};
 use crestline::mesh::{VertexKind, face_normals};
 use crestline::shapes;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
@@ -63,15 +63,9 @@ fn open_surface_keeps_its_boundary() {
         })
         .collect();
     let lines = FeatureLines {
-        lines: vec![crestline::lines::FeatureLine {
-            kind: crestline::lines::LineKind::Valley,
-            points: circle,
-            locations: Vec::new(),
-            closed: true,
+        lines: vec![FeatureLine {
             length: std::f64::consts::TAU * std::f64::consts::PI,
-            curvature_integral: 0.0,
-            strength: 0.0,
-            crease: false,
+            ..FeatureLine::new(LineKind::Valley, circle, true)
         }],
     };
     let options = SimplifyOptions::default().with_target(Target::Faces(400));
@@ -116,10 +110,7 @@ fn crest_lines_keep_detail_near_them() {
     let far = samples(&mesh, |f| d.face[f] > 0.1 * d.max);
     let mut errors = Vec::new();
     for eta in [0.0, 1.0, 2.0] {
-        let options = SimplifyOptions::default()
-            .with_target(Target::Ratio(0.1))
-            .with_eta(eta);
-        let r = simplify(&mesh, &lines, &options).unwrap();
+        let r = common::simplify_to_tenth(&mesh, &lines, eta);
         assert!(r.target_reached);
         let (near_mean, near_max) = distance_to(&r.mesh, &near);
         let (far_mean, far_max) = distance_to(&r.mesh, &far);

@@ -11,7 +11,6 @@ use crestline::extract::{ExtractOptions, extract};
 use crestline::io::read_mesh;
 use crestline::lines::FeatureLines;
 use crestline::mesh::face_normals;
-use crestline::simplify::{SimplifyOptions, Target, simplify};
 use crestline::spatial::FaceGrid;
 
 use crate::common;
@@ -61,10 +60,7 @@ fn real_meshes_keep_their_topology() {
         "horse.ply",
     ] {
         let mesh = load_shared(name);
-        let options = SimplifyOptions::default()
-            .with_target(Target::Ratio(0.1))
-            .with_eta(0.0);
-        let r = simplify(&mesh, &FeatureLines::default(), &options).unwrap();
+        let r = common::simplify_to_tenth(&mesh, &FeatureLines::default(), 0.0);
         let (a, b) = (mesh.info(), r.mesh.info());
         let grid = FaceGrid::new(&mesh);
         let original = face_normals(&mesh);
@@ -128,10 +124,7 @@ fn extracted_lines_keep_detail_near_them_on_fandisk() {
     let d = feature_distance(&mesh, &lines, &DistanceOptions::default()).unwrap();
     let near = samples(&mesh, |f| d.face[f] <= 0.1 * d.max);
     let mean_error = |eta: f64| {
-        let options = SimplifyOptions::default()
-            .with_target(Target::Ratio(0.1))
-            .with_eta(eta);
-        let r = simplify(&mesh, &lines, &options).unwrap();
+        let r = common::simplify_to_tenth(&mesh, &lines, eta);
         assert!(r.target_reached);
         distance_to(&r.mesh, &near).0
     };

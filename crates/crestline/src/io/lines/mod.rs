@@ -216,14 +216,10 @@ pub(super) fn read_line(
     curvature_integral: f64,
 ) -> FeatureLine {
     FeatureLine {
-        kind,
-        length: polyline_length(&points, closed),
-        points,
-        locations: Vec::new(),
-        closed,
         curvature_integral,
         strength,
         crease,
+        ..FeatureLine::new(kind, points, closed)
     }
 }
 
@@ -234,14 +230,5 @@ pub(super) fn of_class(class: usize) -> (LineKind, bool) {
         1 => (LineKind::Valley, false),
         2 => (LineKind::Ridge, true),
         _ => (LineKind::Valley, true),
-    }
-}
-
-/// Length of a polyline, with the closing segment when `closed`.
-pub(super) fn polyline_length(points: &[Vec3], closed: bool) -> f64 {
-    let open: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-    match (closed, points.first(), points.last()) {
-        (true, Some(first), Some(last)) => open + (*first - *last).norm(),
-        _ => open,
     }
 }

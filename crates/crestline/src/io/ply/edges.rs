@@ -108,18 +108,7 @@ fn walk<V: Values>(header: &Header, values: &mut V, source: Source<'_>) -> Resul
     for element in &header.elements {
         let is_edge = element.name == "edge";
         let fault = |values: &V, record: usize, fault: Fault| {
-            let what = format!("{} {record}", element.name);
-            source.at(
-                values.location(),
-                match fault {
-                    Fault::End => format!(
-                        "truncated data: the file ends in {what} (of {} {} elements)",
-                        element.count, element.name
-                    ),
-                    Fault::NotNumber(t) => format!("non-numeric token '{t}' in {what}"),
-                    Fault::NotInteger(t) => format!("'{t}' in {what} is not an integer"),
-                },
-            )
+            source.at(values.location(), fault.message(element, record))
         };
         // A record without properties holds nothing (see the mesh reader).
         if element.properties.is_empty() {

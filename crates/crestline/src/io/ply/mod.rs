@@ -71,6 +71,21 @@ enum Fault {
     NotInteger(String),
 }
 
+impl Fault {
+    /// The error message for this fault in record `record` of `element`.
+    fn message(self, element: &Element, record: usize) -> String {
+        let what = format!("{} {record}", element.name);
+        match self {
+            Fault::End => format!(
+                "truncated data: the file ends in {what} (of {} {} elements)",
+                element.count, element.name
+            ),
+            Fault::NotNumber(t) => format!("non-numeric token '{t}' in {what}"),
+            Fault::NotInteger(t) => format!("'{t}' in {what} is not an integer"),
+        }
+    }
+}
+
 /// A stream of values, ascii or binary, so one walker decodes both encodings.
 trait Values {
     fn float(&mut self, ty: Scalar) -> Result<f64, Fault>;
@@ -140,16 +155,7 @@ fn decode<V: Values>(
 
     for element in &header.elements {
         let record_error = |values: &V, record: usize, fault: Fault| {
-            let what = format!("{} {record}", element.name);
-            let message = match fault {
-                Fault::End => format!(
-                    "truncated data: the file ends in {what} (of {} {} elements)",
-                    element.count, element.name
-                ),
-                Fault::NotNumber(t) => format!("non-numeric token '{t}' in {what}"),
-                Fault::NotInteger(t) => format!("'{t}' in {what} is not an integer"),
-            };
-            source.at(values.location(), message)
+            source.at(values.location(), fault.message(element, record))
         };
         let keeps_nothing = element.properties.iter().all(|p| p.role == Role::Skip);
         // Binary elements of scalars only (vertices nearly always, and most elements that are

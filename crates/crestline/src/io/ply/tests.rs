@@ -370,40 +370,34 @@ fn binary_bad_values_give_the_byte_offset() {
     );
 }
 
-#[test]
-fn binary_skipped_element_truncated() {
-    let bytes = binary(
-        "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n\
-             property float y\nproperty float z\nelement extra 10\nproperty double w\n\
-             end_header\n",
-        |b| b.extend_from_slice(&[0u8; 30]),
+/// A binary file of `vertices` vertices and an element `extra` of 10 doubles cut short in
+/// its fourth: the error names extra 3 and the byte where it ends.
+fn skipped_element_truncated_after(vertices: usize) {
+    let header = format!(
+        "ply\nformat binary_little_endian 1.0\nelement vertex {vertices}\nproperty float x\n\
+         property float y\nproperty float z\nelement extra 10\nproperty double w\n\
+         end_header\n"
     );
-    let h = bytes.len() - 30;
+    let data = 12 * vertices + 30;
+    let bytes = binary(&header, |b| b.resize(b.len() + data, 0));
+    let h = bytes.len() - data;
     assert_eq!(
         error(&bytes),
         format!(
             "t.ply: byte {}: truncated data: the file ends in extra 3 (of 10 extra elements)",
-            h + 24
+            h + 12 * vertices + 24
         )
     );
 }
 
 #[test]
+fn binary_skipped_element_truncated() {
+    skipped_element_truncated_after(0);
+}
+
+#[test]
 fn binary_skipped_element_after_others_truncated() {
-    let bytes = binary(
-        "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n\
-             property float y\nproperty float z\nelement extra 10\nproperty double w\n\
-             end_header\n",
-        |b| b.extend_from_slice(&[0u8; 12 + 30]),
-    );
-    let h = bytes.len() - 42;
-    assert_eq!(
-        error(&bytes),
-        format!(
-            "t.ply: byte {}: truncated data: the file ends in extra 3 (of 10 extra elements)",
-            h + 12 + 24
-        )
-    );
+    skipped_element_truncated_after(1);
 }
 
 #[test]
