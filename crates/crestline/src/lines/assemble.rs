@@ -257,6 +257,24 @@ mod tests {
         assert!((l - (2.0 + 2f64.sqrt())).abs() < 1e-12);
     }
 
+    /// The ridge family of `k` and `e` (the other family's fields `zero`), without noise.
+    fn ridge_family<'a>(
+        k: &'a [f64],
+        e: &'a [f64],
+        zero: &'a [f64],
+        dirs: &'a [Vec3],
+    ) -> Family<'a> {
+        Family {
+            kind: LineKind::Ridge,
+            k,
+            k_other: zero,
+            e,
+            e_other: zero,
+            dirs,
+            e_noise: 0.0,
+        }
+    }
+
     /// A crossing counts when e changes along the crossed edge by at least
     /// `DEGENERATE_CREST |k|³` per unit length; rounding-level values, as on a cylinder, do not.
     #[test]
@@ -276,15 +294,7 @@ mod tests {
             let mut e = vec![0.0; 3];
             e[a as usize] = -change / 2.0;
             e[b as usize] = change / 2.0;
-            let fam = Family {
-                kind: LineKind::Ridge,
-                k: &k,
-                k_other: &zero,
-                e: &e,
-                e_other: &zero,
-                dirs: &dirs,
-                e_noise: 0.0,
-            };
+            let fam = ridge_family(&k, &e, &zero, &dirs);
             is_resolved(&m, &fam, SurfacePoint::Edge { edge, t: 0.5 }, 2.0)
         };
         let bound = DEGENERATE_CREST * 8.0 * length;
@@ -317,15 +327,7 @@ mod tests {
         let dirs = vec![Vec3::y(); nv];
         let k = vec![1.0; nv];
         let zero = vec![0.0; nv];
-        let fam = Family {
-            kind: LineKind::Ridge,
-            k: &k,
-            k_other: &zero,
-            e: &e,
-            e_other: &zero,
-            dirs: &dirs,
-            e_noise: 0.0,
-        };
+        let fam = ridge_family(&k, &e, &zero, &dirs);
         let mut segs = FamilySegments {
             regular: vec![true; m.num_faces()],
             ..Default::default()
