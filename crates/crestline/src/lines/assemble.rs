@@ -184,7 +184,8 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
 /// rather than a degenerate zero: on cylinders, cones, spheres and tori (Dupin cyclides)
 /// `e ≡ 0` and `de/dt = 0`, and the fit's rounding decides where a "line" runs. The test
 /// compares the change of e along the crossed edge, `|Δe| / |edge|` (a lower bound of
-/// |de/dt|), with the curvature's own scale `|k|³`. Points inside faces or at vertices pass.
+/// |de/dt|), with the curvature's own scale `|k|³`, and asks both ends of the edge to be away
+/// from umbilics ([`UMBILIC_GAP`]). Points inside faces or at vertices pass.
 pub fn is_resolved(mesh: &TriMesh, family: &Family<'_>, location: SurfacePoint, k: f64) -> bool {
     let SurfacePoint::Edge { edge, .. } = location else {
         return true;
@@ -192,11 +193,22 @@ pub fn is_resolved(mesh: &TriMesh, family: &Family<'_>, location: SurfacePoint, 
     let [a, b] = mesh.topology().edge(edge);
     let change = (family.e[b as usize] * family.relative_sign(a, b) - family.e[a as usize]).abs();
     let length = (mesh.position(b) - mesh.position(a)).norm();
-    change >= DEGENERATE_CREST * k.powi(3) * length
+    let anisotropic = |v: u32| {
+        let (k, other) = (family.k[v as usize], family.k_other[v as usize]);
+        (k - other).abs() >= UMBILIC_GAP * k.abs().max(other.abs())
+    };
+    anisotropic(a) && anisotropic(b) && change >= DEGENERATE_CREST * k.powi(3) * length
 }
 
 /// [`is_resolved`]'s bound: `|de/dt| < DEGENERATE_CREST |k|³` is a degenerate crossing.
 pub const DEGENERATE_CREST: f64 = 0.01;
+
+/// [`is_resolved`]'s umbilic bound: where `|k_max − k_min| < UMBILIC_GAP max(|k_max|, |k_min|)`
+/// at an end of the crossed edge, the principal directions, and with them e (a derivative
+/// along one of them), are not defined to the fit's accuracy (spheres, the seam where a dome
+/// meets its cylinder). Measured (`score.py`, `score_cad.py`): every quality case unchanged,
+/// CAD parts HPW 0.983 → 0.991, YBS 0.988 → 0.991; 0.25 costs YBS 0.04 on bumpy/irr20k.
+pub const UMBILIC_GAP: f64 = 0.1;
 
 /// The cyclideness with the expected contribution of the extremalities' estimation noise
 /// removed: with independent normal errors of standard deviation δ in `e_max` and `e_min`,
@@ -299,6 +311,13 @@ mod tests {
         };
         let bound = DEGENERATE_CREST * 8.0 * length;
         assert!(resolved(1.01 * bound));
+        // The same change next to an umbilic (k_min close to k_max) does not count.
+        let near_umbilic = vec![2.0 * (1.0 - 0.5 * UMBILIC_GAP); 3];
+        let mut e = vec![0.0; 3];
+        e[b as usize] = 1.0;
+        let fam = ridge_family(&k, &e, &near_umbilic, &dirs);
+        let point = SurfacePoint::Edge { edge, t: 0.5 };
+        assert!(!is_resolved(&m, &fam, point, 2.0));
         assert!(!resolved(0.99 * bound));
         assert!(!resolved(1e-12));
         let empty = crate::curvature::Curvature::default();
