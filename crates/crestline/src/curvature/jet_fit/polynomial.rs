@@ -80,28 +80,7 @@ pub(super) fn solve<const N: usize>(
     degree: usize,
     residual: bool,
 ) -> Option<Fit> {
-    // `ata[j][i]` is entry (i, j) of Σ w m mᵀ for i ≥ j: the columns of its lower triangle,
-    // the one the factorisation reads. `rhs[i]` holds Σ w z m and Σ w ξ m, solved together.
-    let mut ata = [[0.0f64; N]; N];
-    let mut rhs = [[0.0f64; 2]; N];
-    let mut weight = 0.0;
-    for s in samples {
-        let m = monomials::<N>(s.x, s.y);
-        for (j, column) in ata.iter_mut().enumerate() {
-            let wm = s.w * m[j];
-            // From an even row, so that rows go in pairs (vectorised); the one entry above
-            // the diagonal this adds in odd columns is never read.
-            for i in (j & !1)..N {
-                column[i] += wm * m[i];
-            }
-        }
-        let wv = [s.w * s.z, s.w * s.xi];
-        for (r, &mi) in rhs.iter_mut().zip(&m) {
-            r[0] += wv[0] * mi;
-            r[1] += wv[1] * mi;
-        }
-        weight += s.w;
-    }
+    let (mut ata, rhs, weight) = normal_equations::<N>(samples);
     if weight.is_nan() || weight <= 0.0 {
         return None;
     }
@@ -139,6 +118,36 @@ pub(super) fn solve<const N: usize>(
         degree,
         residual: (sq / weight).sqrt(),
     })
+}
+
+/// The normal equations of the fit by the first `N` monomials: `Σ w m mᵀ` (`ata[j][i]` is
+/// entry (i, j) for i ≥ j: the columns of its lower triangle, the one the factorisation
+/// reads), the right-hand sides `Σ w z m` and `Σ w ξ m` side by side (`rhs[i]`, solved
+/// together), and `Σ w`. A function of its own: inlined into [`solve`], its loop was
+/// compiled with the accumulators spilled.
+#[inline(never)]
+fn normal_equations<const N: usize>(samples: &[Sample]) -> ([[f64; N]; N], [[f64; 2]; N], f64) {
+    let mut ata = [[0.0f64; N]; N];
+    let mut rhs = [[0.0f64; 2]; N];
+    let mut weight = 0.0;
+    for s in samples {
+        let m = monomials::<N>(s.x, s.y);
+        for (j, column) in ata.iter_mut().enumerate() {
+            let wm = s.w * m[j];
+            // From an even row, so that rows go in pairs (vectorised); the one entry above
+            // the diagonal this adds in odd columns is never read.
+            for i in (j & !1)..N {
+                column[i] += wm * m[i];
+            }
+        }
+        let wv = [s.w * s.z, s.w * s.xi];
+        for (r, &mi) in rhs.iter_mut().zip(&m) {
+            r[0] += wv[0] * mi;
+            r[1] += wv[1] * mi;
+        }
+        weight += s.w;
+    }
+    (ata, rhs, weight)
 }
 
 /// The Cholesky factor L (`a = L Lᵀ`) of the symmetric matrix whose lower triangle is given
