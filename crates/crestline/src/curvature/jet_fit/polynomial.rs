@@ -124,26 +124,28 @@ pub(super) fn solve<const N: usize>(
 /// entry (i, j) for i ≥ j: the columns of its lower triangle, the one the factorisation
 /// reads), the right-hand sides `Σ w z m` and `Σ w ξ m` side by side (`rhs[i]`, solved
 /// together), and `Σ w`. A function of its own: inlined into [`solve`], its loop was
-/// compiled with the accumulators spilled.
+/// compiled with the accumulators spilled. (Its index loops compile to faster code than
+/// `iter_mut().enumerate()` and `zip` did: 17% against 22% of igea's extract in perf.)
 #[inline(never)]
+#[allow(clippy::needless_range_loop)]
 fn normal_equations<const N: usize>(samples: &[Sample]) -> ([[f64; N]; N], [[f64; 2]; N], f64) {
     let mut ata = [[0.0f64; N]; N];
     let mut rhs = [[0.0f64; 2]; N];
     let mut weight = 0.0;
     for s in samples {
         let m = monomials::<N>(s.x, s.y);
-        for (j, column) in ata.iter_mut().enumerate() {
+        for j in 0..N {
             let wm = s.w * m[j];
             // From an even row, so that rows go in pairs (vectorised); the one entry above
             // the diagonal this adds in odd columns is never read.
             for i in (j & !1)..N {
-                column[i] += wm * m[i];
+                ata[j][i] += wm * m[i];
             }
         }
         let wv = [s.w * s.z, s.w * s.xi];
-        for (r, &mi) in rhs.iter_mut().zip(&m) {
-            r[0] += wv[0] * mi;
-            r[1] += wv[1] * mi;
+        for i in 0..N {
+            rhs[i][0] += wv[0] * m[i];
+            rhs[i][1] += wv[1] * m[i];
         }
         weight += s.w;
     }
