@@ -1,4 +1,4 @@
-//! Throughput of the two curvature estimators (rayon-parallel), in vertices per second.
+//! Throughput of the curvature estimators (rayon-parallel), in vertices per second.
 //!
 //! ```sh
 //! cargo bench -p crestline --bench curvature
@@ -11,7 +11,9 @@
 mod common;
 
 use crestline::TriMesh;
-use crestline::curvature::{CubicFitOptions, ShapeOperatorOptions, cubic_fit, shape_operator};
+use crestline::curvature::{
+    CubicFitOptions, JetFitOptions, ShapeOperatorOptions, cubic_fit, jet_fit, shape_operator,
+};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 
 fn meshes() -> Vec<(String, TriMesh)> {
@@ -25,6 +27,10 @@ fn bench(c: &mut Criterion) {
         group.throughput(Throughput::Elements(mesh.num_vertices() as u64));
         group.bench_with_input(BenchmarkId::new("shape_operator", &name), &mesh, |b, m| {
             b.iter(|| shape_operator(m, &ShapeOperatorOptions::DEFAULT))
+        });
+        // The default estimator of `extract` (igea is noisy: cubic fits over wider discs).
+        group.bench_with_input(BenchmarkId::new("jet_fit", &name), &mesh, |b, m| {
+            b.iter(|| jet_fit(m, &JetFitOptions::DEFAULT))
         });
         for rings in [1, 2] {
             let options = CubicFitOptions::DEFAULT.with_rings(rings);
