@@ -170,7 +170,9 @@ fn check_method(method: Method, known_gaps: &[(&str, f64)]) {
 
 // Known gap, HPW: on the fine cone a spurious crest line near the apex (measured F1 0.974:
 // the cone's e is zero in theory, T of the spurious piece about 2.2; the merge cuts lines
-// within three rings of the apex, the piece lies at 1.5 to 3 fitting radii). YBS meets the
+// within three rings of the apex, the piece lies at 1.5 to 3 fitting radii; the degenerate-crest
+// test, `lines::assemble::is_resolved`, keeps it even with its bound at 0.1: near the apex the
+// fits' e changes fast, because k grows like one over the distance). YBS meets the
 // target there (0.982 measured on 2026-11-26; the 0.95 noted before predates the jet fit's
 // strip sampling).
 #[test]
