@@ -185,7 +185,8 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
 /// `e ≡ 0` and `de/dt = 0`, and the fit's rounding decides where a "line" runs. The test
 /// compares the change of e along the crossed edge, `|Δe| / |edge|` (a lower bound of
 /// |de/dt|), with the curvature's own scale `|k|³`, and asks both ends of the edge to be away
-/// from umbilics ([`UMBILIC_GAP`]). Points inside faces or at vertices pass.
+/// from umbilics ([`UMBILIC_GAP`]; flat points, where both curvatures are zero, pass: the
+/// strength threshold handles them). Points inside faces or at vertices pass.
 pub fn is_resolved(mesh: &TriMesh, family: &Family<'_>, location: SurfacePoint, k: f64) -> bool {
     let SurfacePoint::Edge { edge, .. } = location else {
         return true;

@@ -306,10 +306,7 @@ impl Neighbours {
         let mut pairs = Vec::new();
         offsets.push(0);
         for a in 0..n as u32 {
-            for &e in topo.vertex_edges(a) {
-                let [x, y] = topo.edge(e);
-                pairs.push((if x == a { y } else { x }, e));
-            }
+            pairs.extend(topo.neighbors(a).zip(topo.vertex_edges(a).iter().copied()));
             offsets.push(pairs.len());
         }
         Neighbours { offsets, pairs }
@@ -352,7 +349,7 @@ fn probe_keys(mesh: &TriMesh) -> Vec<u64> {
         .enumerate()
         .map(|(v, p)| {
             let bin = ((p - centroid).norm() / unit * (1u64 << 12) as f64) as u64;
-            let valence = topo.vertex_edges(v as u32).len() as u64;
+            let valence = topo.degree(v as u32) as u64;
             splitmix64(bin ^ splitmix64(valence))
         })
         .collect()
@@ -680,6 +677,8 @@ fn kernel(d2: f64) -> f64 {
 /// `key` ([`probe_keys`]): the same value in every disc that contains the vertex, so that the
 /// fits turn it into noise of the extremalities with the spatial correlation real noise gets
 /// (uniform on [−√3, √3]; keyed by position, so that reordering the mesh does not change it).
+/// Vertices that share a key (same valence, same distance bin: a few per bin on large meshes,
+/// spread over the shape) draw the same value.
 pub(crate) fn simulated_noise(key: u64) -> f64 {
     let unit = (splitmix64(key ^ 0x5851_F42D_4C95_7F2D) >> 11) as f64 / (1u64 << 53) as f64;
     3f64.sqrt() * (2.0 * unit - 1.0)
