@@ -335,20 +335,17 @@ fn cut_line(
                 false,
             )
         };
-        // Ends where the line was cut go to the crease point nearest to the point cut next
-        // to them; the line's own ends when they are within the join distance.
-        let (anchor, radius) = if first > 0 {
-            (line.points[order[first - 1]], tolerance)
-        } else {
-            (piece.points[0], join)
-        };
-        join_end(&mut piece, samples, anchor, radius, true);
-        let (anchor, radius) = if k < order.len() {
-            (line.points[order[k]], tolerance)
-        } else {
-            (*piece.points.last().unwrap_or(&anchor), join)
-        };
-        join_end(&mut piece, samples, anchor, radius, false);
+        // Every end, the line's own or one where it was cut, goes to the crease point nearest
+        // to it when that is within the join distance. A cut end is measured from the point
+        // kept, not from the one cut: a point is also cut when its fields are unsupported,
+        // and whether the tracing reached such a point can follow rounding (a flat side's
+        // extremality), so the join must not depend on it.
+        if let Some(&start) = piece.points.first() {
+            join_end(&mut piece, samples, start, join, true);
+        }
+        if let Some(&end) = piece.points.last() {
+            join_end(&mut piece, samples, end, join, false);
+        }
         if piece.length >= min_length && piece.points.len() >= 2 {
             let ratio = if line.length > 0.0 {
                 (piece.length / line.length).min(1.0)
@@ -420,8 +417,7 @@ impl Support<'_> {
 }
 
 /// Extends `line` at its start (or end) to the crease sample nearest to `anchor`, if there is
-/// one within `radius` of it, and updates its length. `anchor` is the line's end itself, or for a cut end the point
-/// cut next to it (which is within the tolerance of the crease).
+/// one within `radius` of it, and updates its length.
 fn join_end(
     line: &mut FeatureLine,
     samples: &CreaseSamples,

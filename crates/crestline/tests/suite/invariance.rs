@@ -301,7 +301,7 @@ fn fandisk_lines_are_invariant_under_translation_and_reordering() {
     );
 }
 
-// Known gaps, measured (issue 22). Translation and reordering on fandisk used to add one
+// Measured gaps, now closed (issue 22). Translation and reordering on fandisk used to add one
 // ridge of 3 points: a crease vertex between two flat sides has an angle of π on each, and
 // `widest_side` chose between them by rounding; it now takes angles within 1e-9 as a tie
 // (`SIDE_TIE`) and breaks it by area, face count and second moment (all invariant), and
@@ -310,17 +310,13 @@ fn fandisk_lines_are_invariant_under_translation_and_reordering() {
 // the tangent frame maps orthogonally (`ROTATION_SCALE`), where it was the identity in the
 // plain monomials: on the rows of fandisk's grids some quartic fits are nearly singular
 // (eigenvalues of the normal equations down to 1e-14 of the largest), and their curvature
-// followed the frame, which follows the coordinate axes. Left, measured after that: on
-// fandisk a rotation gives 48 lines against 48, every point of either set within 1.2e-7 of
-// the other's (tolerance 7.6e-6), but one valley is joined to a crease in one run and not
-// in the other (1.66e-2 of the diagonal of length). Traced: an end of that valley lies on
-// an edge whose vertex has an extremality at the level of rounding (a flat side), whose
-// sign then follows the model's rotation; with such values set to zero (a fit's third
-// derivatives below its response to height errors of 1e-12 of the coordinates) this test
-// passes (48 lines against 48, points within 6.6e-8), but the ovoid's regular meshes, whose
-// crest lines run along rows of vertices where the extremality is zero by symmetry, lose
-// recall (HPW F1 1.000 -> 0.962 on reg5k, 0.986 on reg20k), so that change is not in. This
-// test keeps the strict check and runs with `cargo test -- --ignored`.
+// followed the frame, which follows the coordinate axes. A rotation then still joined one
+// valley to a crease in one run and not in the other (1.66e-2 of the diagonal of length):
+// the valley's tracing reached one more edge, beside a flat side whose extremality is at
+// the level of rounding, in one run only; that point is cut (its fields are one-sided) and
+// a cut end was joined only from the point cut, within the cut tolerance. Every end is
+// now joined from the point kept, within the join distance (`lines::merge`), so that
+// point no longer matters: 45 lines against 45, the same length.
 //
 // Reordering the scans used to move their lines (bunny: points beyond 1e-6 of the diagonal;
 // igea: 477 lines against 475): the jet fit's noise probe fitted every n/20000-th vertex in
@@ -328,7 +324,6 @@ fn fandisk_lines_are_invariant_under_translation_and_reordering() {
 // from the vertex's distance to the centroid (`probe_keys`).
 
 #[test]
-#[ignore = "known gap: fandisk lines change under rotation"]
 fn fandisk_lines_are_invariant_under_rotation() {
     check_mesh("fandisk.obj", &[("rotated", rotated(), false)]);
 }
