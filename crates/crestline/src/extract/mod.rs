@@ -318,7 +318,10 @@ pub fn extract_with_progress(
     }
     if !creases.is_empty() {
         let t = clock.begin(Stage::Merging);
-        lines = merge_creases(mesh, lines, &creases, &options.merge)?;
+        let fit_radius = curvature
+            .jet_fit
+            .map_or(0.0, |report| report.radius * report.spacing);
+        lines = merge_creases(mesh, lines, &creases, &options.merge, fit_radius)?;
         clock.end(Stage::Merging, t);
     }
     stats.stage_times = clock.times;

@@ -17,7 +17,8 @@
 //!   In the fans of a CAD export, which have no vertex inside a face, crest lines through a
 //!   face interpolate the one-sided estimates of its boundary and say nothing about the face;
 //! - crest lines are cut within three rings (three times the mean length of its edges) of a
-//!   cone point ([`crate::lines::crease::cone_points`]): the fits there straddle the tip;
+//!   cone point ([`crate::lines::crease::cone_points`]), or within [`CONE_FIT_RADII`] fitting
+//!   radii of it if that is farther: the fits there straddle the tip or are biased by it;
 //! - what is left of a cut crest line must still be [`MergeOptions::min_length`] long;
 //! - crest lines away from creases (fillets, blends, freeform parts) are kept as they are.
 //!
@@ -191,7 +192,9 @@ impl CreaseSamples {
 
 /// Merges `creases` (found by [`crate::lines::crease::find_creases`] on `mesh`) into `crest`
 /// lines (see the module docs). The crest lines come first in the result, then the crease
-/// curves.
+/// curves. `fit_radius` is the radius (model units) of the discs the curvature estimate
+/// read, 0 when it read stars or rings: crest lines are cut within
+/// [`CONE_FIT_RADII`] of it around cone points.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for options out of range or creases of another mesh.
@@ -200,6 +203,7 @@ pub fn merge_creases(
     crest: FeatureLines,
     creases: &Creases,
     options: &MergeOptions,
+    fit_radius: f64,
 ) -> Result<FeatureLines> {
     options.validate()?;
     if creases.curves.is_empty() {
@@ -235,7 +239,7 @@ pub fn merge_creases(
                     (mesh.position(b) - mesh.position(a)).norm()
                 })
                 .sum();
-            3.0 * total / edges.len().max(1) as f64
+            (3.0 * total / edges.len().max(1) as f64).max(CONE_FIT_RADII * fit_radius)
         })
         .collect();
     let cone_positions: Vec<Vec3> = creases.cones.iter().map(|&c| mesh.position(c)).collect();
@@ -335,16 +339,23 @@ fn cut_line(
                 false,
             )
         };
-        // Every end, the line's own or one where it was cut, goes to the crease point nearest
-        // to it when that is within the join distance. A cut end is measured from the point
-        // kept, not from the one cut: a point is also cut when its fields are unsupported,
-        // and whether the tracing reached such a point can follow rounding (a flat side's
-        // extremality), so the join must not depend on it.
+        // Every end goes to the crease point nearest to it, within the join distance; an
+        // end where the line was cut also within its distance to the point cut next to it
+        // plus the tolerance, so that it reaches the crease the line ran into. The anchor is
+        // the end kept, never the point cut: whether the tracing reached one more point
+        // there can follow rounding (a flat side's extremality), and the join must not.
+        let reach = |end: Vec3, cut: Option<usize>| {
+            cut.map_or(join, |i| {
+                join.max((line.points[i] - end).norm() + tolerance)
+            })
+        };
         if let Some(&start) = piece.points.first() {
-            join_end(&mut piece, samples, start, join, true);
+            let radius = reach(start, (first > 0).then(|| order[first - 1]));
+            join_end(&mut piece, samples, start, radius, true);
         }
         if let Some(&end) = piece.points.last() {
-            join_end(&mut piece, samples, end, join, false);
+            let radius = reach(end, (k < order.len()).then(|| order[k]));
+            join_end(&mut piece, samples, end, radius, false);
         }
         if piece.length >= min_length && piece.points.len() >= 2 {
             let ratio = if line.length > 0.0 {
@@ -415,6 +426,16 @@ impl Support<'_> {
         }
     }
 }
+
+/// Crest lines are cut within this many fitting radii of a cone point (and within three
+/// rings of it, whichever is farther). A fit whose disc holds the tip straddles it; beyond,
+/// the surface's Taylor series about a point at distance d from the tip converges only
+/// within d, and the fit's truncation error in e, relative to the curvature's own scale,
+/// falls off like (r / d)² for a disc of radius r: a ninth at three radii. A cone's
+/// extremality is zero (k_max is constant around it), so what the fits find there is that
+/// error: on the fine cone of the CAD solids (`tests/suite/cad_shapes.rs`) HPW's spurious
+/// crest lines reach 2.8 fitting radii from the tip.
+pub const CONE_FIT_RADII: f64 = 3.0;
 
 /// Extends `line` at its start (or end) to the crease sample nearest to `anchor`, if there is
 /// one within `radius` of it, and updates its length.
@@ -529,7 +550,7 @@ mod tests {
         let crest = FeatureLines {
             lines: vec![along, short, far.clone()],
         };
-        let merged = merge_creases(&mesh, crest, &crease, &MergeOptions::DEFAULT).unwrap();
+        let merged = merge_creases(&mesh, crest, &crease, &MergeOptions::DEFAULT, 0.0).unwrap();
         assert_eq!(merged.lines.len(), 4);
         let [a, b, c, d] = &merged.lines[..] else {
             unreachable!()
@@ -549,7 +570,8 @@ mod tests {
             lines: vec![line(&[[0.1, 0.7], [0.3, 0.7]], false)],
         };
         let none = Creases::none(mesh.topology().num_edges());
-        let merged = merge_creases(&mesh, crest.clone(), &none, &MergeOptions::DEFAULT).unwrap();
+        let merged =
+            merge_creases(&mesh, crest.clone(), &none, &MergeOptions::DEFAULT, 0.0).unwrap();
         assert_eq!(merged, crest);
     }
 
@@ -576,6 +598,7 @@ mod tests {
             FeatureLines { lines: vec![crest] },
             &creases,
             &options,
+            0.0,
         )
         .unwrap();
         // Two pieces joined to the crease, and the crease.

@@ -108,9 +108,8 @@ fn score(solid: &Solid, lines: &FeatureLines) -> Score {
 }
 
 /// Checks every solid against issue 20's targets (F1 ≥ 0.98, nothing on planar faces, every
-/// corner reached); `known_gaps` lowers the F1 bound of the named solids to what they measure
-/// today, so that they still cannot get worse.
-fn check_method(method: Method, known_gaps: &[(&str, f64)]) {
+/// corner reached).
+fn check_method(method: Method) {
     let mut failures = Vec::new();
     for solid in solids() {
         let topo = solid.mesh.topology();
@@ -124,7 +123,7 @@ fn check_method(method: Method, known_gaps: &[(&str, f64)]) {
         let s = score(&solid, &result.lines);
         let diagonal = solid.mesh.bounding_box().diagonal();
         eprintln!(
-            "{method:?} {:<36} {:>6} faces  P {:.3} R {:.3} F1 {:.3}  on planes {:.4} diag, \
+            "{method:?} {:<36} {:>6} faces  P {:.3} R {:.3} F1 {:.4}  on planes {:.4} diag, \
              corners missed {}/{}, creases {}",
             solid.name,
             solid.mesh.num_faces(),
@@ -136,11 +135,7 @@ fn check_method(method: Method, known_gaps: &[(&str, f64)]) {
             solid.corners.len(),
             result.stats.creases,
         );
-        let min_f1 = known_gaps
-            .iter()
-            .find(|gap| gap.0 == solid.name)
-            .map_or(0.98, |gap| gap.1);
-        if s.f1() < min_f1 || s.on_planes > 0.0 || s.corners_missed > 0 {
+        if s.f1() < 0.98 || s.on_planes > 0.0 || s.corners_missed > 0 {
             // CAD_SHAPES_DUMP=folder keeps the mesh and the lines of a failure.
             if let Some(dir) = std::env::var_os("CAD_SHAPES_DUMP") {
                 let stem = std::path::Path::new(&dir)
@@ -168,30 +163,25 @@ fn check_method(method: Method, known_gaps: &[(&str, f64)]) {
     assert!(failures.is_empty(), "{method:?} fails on {failures:?}");
 }
 
-// Known gap, HPW: on the fine cone a spurious crest line near the apex (measured F1 0.974:
-// the cone's e is zero in theory, T of the spurious piece about 2.2; the merge cuts lines
-// within three rings of the apex, the piece lies at 1.5 to 3 fitting radii; the degenerate-crest
-// test, `lines::assemble::is_resolved`, keeps it even with its bound at 0.1: near the apex the
-// fits' e changes fast, because k grows like one over the distance). YBS meets the
-// target there (0.982 measured on 2026-11-26; the 0.95 noted before predates the jet fit's
-// strip sampling).
+// The fine cone used to be a known gap of HPW (F1 0.974) and of the saliency method (0.773):
+// crest lines near the apex, out to 2.8 fitting radii from it (HPW) and 4.2 (saliency),
+// where a cone's extremality is zero and the fits' e is their truncation error. The merge
+// now cuts crest lines within three fitting radii of a cone point (`lines::merge`,
+// `CONE_FIT_RADII`), where it cut within three rings: HPW 1.000, YBS 1.000, saliency 0.980
+// (three short saliency lines at 3.1 to 4.2 radii, strengths below 0.001, are left).
 #[test]
 fn hpw_lines_are_the_sharp_edges_of_cad_solids() {
-    check_method(Method::Hpw, &[("cone (Fine)", 0.97)]);
+    check_method(Method::Hpw);
 }
 
 #[test]
 fn ybs_lines_are_the_sharp_edges_of_cad_solids() {
-    check_method(Method::Ybs, &[]);
+    check_method(Method::Ybs);
 }
 
-// Known gap, measured: nothing on the planar faces and every corner reached on all twelve
-// meshes, but on the fine cone (F1 0.773) the saliency method keeps crest points near the
-// apex, where the fits span the cone's point and the extremalities, zero in theory, are
-// estimated far off (the same lines as HPW's there, linked further).
 #[test]
 fn saliency_lines_are_the_sharp_edges_of_cad_solids() {
-    check_method(Method::Saliency, &[("cone (Fine)", 0.76)]);
+    check_method(Method::Saliency);
 }
 
 #[test]

@@ -315,8 +315,9 @@ fn fandisk_lines_are_invariant_under_translation_and_reordering() {
 // the valley's tracing reached one more edge, beside a flat side whose extremality is at
 // the level of rounding, in one run only; that point is cut (its fields are one-sided) and
 // a cut end was joined only from the point cut, within the cut tolerance. Every end is
-// now joined from the point kept, within the join distance (`lines::merge`), so that
-// point no longer matters: 45 lines against 45, the same length.
+// now joined from the point kept: within the join distance, and a cut end also within its
+// distance to the point cut plus the tolerance (`lines::merge`), so that point no longer
+// matters: 45 lines against 45, the same length.
 //
 // Reordering the scans used to move their lines (bunny: points beyond 1e-6 of the diagonal;
 // igea: 477 lines against 475): the jet fit's noise probe fitted every n/20000-th vertex in
