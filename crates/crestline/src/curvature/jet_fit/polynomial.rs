@@ -65,6 +65,11 @@ pub(super) struct Fit {
     noise_coef: [f64; 15],
     pub(super) degree: usize,
     pub(super) residual: f64,
+    /// The smallest ratio of a Cholesky pivot to the diagonal entry of the normal equations
+    /// it comes from: near 1 for samples spread over the disc, at the level of the
+    /// regularisation (1e-12) where the samples cannot tell a monomial from the others, as
+    /// on two or three rows of vertices.
+    pub(super) conditioning: f64,
 }
 
 /// The weighted least-squares fit of `samples` by the first `N` monomials; the residual is
@@ -87,12 +92,16 @@ pub(super) fn solve<const N: usize>(
     // A whisper of ridge regularisation keeps nearly collinear discs solvable. It is the
     // identity in the rotation-orthogonal basis (`ROTATION_SCALE`), so that it does not
     // depend on how the tangent frame is turned.
+    let diagonal: [f64; N] = std::array::from_fn(|k| ata[k][k]);
     let trace = (0..N).fold(0.0, |sum, k| sum + ata[k][k]);
     let ridge = 1e-12 * trace / N as f64;
     for (k, column) in ata.iter_mut().enumerate() {
         column[k] += ridge / (ROTATION_SCALE[k] * ROTATION_SCALE[k]);
     }
     let l = cholesky(ata)?;
+    let conditioning = (0..N).fold(f64::INFINITY, |least, k| {
+        least.min(l[k][k] * l[k][k] / diagonal[k])
+    });
     let solution = solve_factored(&l, rhs);
     let x: [f64; N] = std::array::from_fn(|i| solution[i][0]);
     if !x.iter().all(|c| c.is_finite()) {
@@ -117,6 +126,7 @@ pub(super) fn solve<const N: usize>(
         noise_coef,
         degree,
         residual: (sq / weight).sqrt(),
+        conditioning,
     })
 }
 

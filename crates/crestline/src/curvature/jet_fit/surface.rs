@@ -13,7 +13,11 @@
 //! **When.** Only where vertex sampling fails: the disc's vertices, with their weights and
 //! projected on the tangent plane, lie along a strip (the smaller eigenvalue of their weighted
 //! second moment is below 2% of the larger), tested once the disc has grown to its minimal
-//! number of vertices: a row of vertices along the rim of a CAD strip or fan. A disc of a
+//! number of vertices: a row of vertices along the rim of a CAD strip or fan; or the fit of
+//! the vertices is ill-posed (a pivot of its normal equations below 1e-8 of its diagonal
+//! entry, `ILL_POSED`): vertices on two or three rows, too few for the polynomial across
+//! them, as where triangles several times longer than wide meet a boundary or run along a
+//! bend. On the public quality cases and the shared scans this never happens. A disc of a
 //! mesh that samples the surface in both directions never takes this path: its results are
 //! those of vertex sampling. The fit's residual does not count towards the noise level
 //! there: pieces of flat triangles are off a curved surface by the tessellation's chord
