@@ -7,7 +7,8 @@
 //! sequential over sorted nodes, so the output is deterministic.
 //!
 //! Each line carries its length, the integral of |k| of its family along it (trapezoid rule)
-//! and YBS's scale-independent strength `T = ∫ds · ∫C ds`, with the cyclideness
+//! and YBS's scale-independent strength `T = ∫ds · ∫C ds` (over the part of the line that is
+//! a crest, see [`measure_line`]), with the cyclideness
 //! `C = sqrt(e_max² + e_min²)` interpolated at each line point as YBS prescribe (on an edge
 //! that is the linear interpolation at the zero crossing, weights `|e(q)|`, `|e(p)|`).
 
@@ -151,13 +152,18 @@ fn build_line(mesh: &TriMesh, family: &Family<'_>, path: &[Node], closed: bool) 
 }
 
 /// Recomputes a line's length, `∫|k| ds` and `T = ∫ds · ∫C ds` from its points and surface
-/// locations (values interpolated linearly from the vertices). C counts only where the
-/// crossing is a crest and not a degenerate zero of e ([`is_resolved`]). Lines without
-/// locations only get their length.
+/// locations (values interpolated linearly from the vertices). Both integrals of T run only
+/// where the crossing is a crest and not a degenerate zero of e ([`is_resolved`]): a line
+/// that runs on along a cylinder or a cone, where e ≡ 0, is as strong as its crest part
+/// (the dome of the public CAD parts on its cylinder, meshed uniformly, kept a line along the
+/// cylinder whose few resolved points at the dome's seam, times the whole length, made
+/// T > 1: HPW F1 0.883 → 1.000; the quality cases unchanged). Lines without locations only
+/// get their length.
 pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine) {
     let n = line.points.len();
     let mut k_abs = vec![0.0; n];
     let mut cyclideness = vec![0.0; n];
+    let mut resolved = vec![1.0; n];
     if line.locations.len() == n {
         for (i, location) in line.locations.iter().enumerate() {
             let (mut k, mut c) = (0.0, 0.0);
@@ -170,14 +176,16 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
             cyclideness[i] = debiased_cyclideness(c, family.e_noise);
             if !is_resolved(mesh, family, *location, k_abs[i]) {
                 cyclideness[i] = 0.0;
+                resolved[i] = 0.0;
             }
         }
     }
     let (length, k_integral, c_integral) =
         integrate(&line.points, &k_abs, &cyclideness, line.closed);
+    let crest_length = integrate(&line.points, &resolved, &resolved, line.closed).1;
     line.length = length;
     line.curvature_integral = k_integral;
-    line.strength = length * c_integral;
+    line.strength = crest_length * c_integral;
 }
 
 /// Whether the extremality changes across the line fast enough for the crossing to be a crest

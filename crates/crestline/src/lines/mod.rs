@@ -82,7 +82,9 @@ pub struct FeatureLine {
     pub length: f64,
     /// Integral of |k| (the dominant principal curvature) along the line (Ohtake et al. 2004).
     pub curvature_integral: f64,
-    /// YBS strength T = ∫ds · ∫C ds with C the cyclideness (YBS eqs. 5, 6); scale independent.
+    /// YBS strength T = ∫ds · ∫C ds with C the cyclideness (YBS eqs. 5, 6), both integrals
+    /// over the part of the line that is a crest ([`assemble::measure_line`]); scale
+    /// independent.
     /// For a crease curve: see [`crease::CreaseCurve::strength`].
     pub strength: f64,
     /// True for a sharp crease of the mesh ([`crease`]): a chain of mesh edges whose dihedral
