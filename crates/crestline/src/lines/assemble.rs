@@ -334,6 +334,59 @@ mod tests {
         assert!(is_resolved(&m, &fam, SurfacePoint::Face { face: 0 }, 2.0));
     }
 
+    /// T counts only the part of a line that is a crest: along a strip of quads, e changes
+    /// across the line on the left half and only at the level of rounding on the right half
+    /// (as on a cylinder), so the right half adds to neither integral of T.
+    #[test]
+    fn strength_counts_only_the_crest_part_of_a_line() {
+        let n = 6u32;
+        let mut p = Vec::new();
+        for i in 0..=n {
+            p.push([i as f64, 0.0, 0.0]);
+            p.push([i as f64, 1.0, 0.0]);
+        }
+        let mut faces = Vec::new();
+        for i in 0..n {
+            let (a, b, c, d) = (2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1);
+            faces.extend([[a, b, c], [a, c, d]]);
+        }
+        let m = TriMesh::from_arrays(p, faces).unwrap();
+        let nv = m.num_vertices();
+        let e: Vec<f64> = m
+            .positions()
+            .iter()
+            .map(|p| (p.y - 0.5) * if p.x <= 3.0 { 1.0 } else { 1e-9 })
+            .collect();
+        let dirs = vec![Vec3::y(); nv];
+        let k = vec![1.0; nv];
+        let zero = vec![0.0; nv];
+        let fam = ridge_family(&k, &e, &zero, &dirs);
+        // The line through the rungs' midpoints, x = 0 to 6.
+        let rungs: Vec<u32> = (0..=n)
+            .map(|i| m.topology().edge_between(2 * i, 2 * i + 1).unwrap())
+            .collect();
+        let mut line = FeatureLine {
+            locations: rungs
+                .iter()
+                .map(|&edge| SurfacePoint::Edge { edge, t: 0.5 })
+                .collect(),
+            ..FeatureLine::new(
+                LineKind::Ridge,
+                (0..=n).map(|i| Vec3::new(i as f64, 0.5, 0.0)).collect(),
+                false,
+            )
+        };
+        measure_line(&m, &fam, &mut line);
+        assert!((line.length - 6.0).abs() < 1e-12);
+        // C = 0.5 at x = 0..3 and 0 from x = 4 on: ∫C ds = 1.5 + 0.25; the crest part is 3.5
+        // long (half of the segment from 3 to 4 by the trapezoid rule), not 6.
+        assert!(
+            (line.strength - 3.5 * 1.75).abs() < 1e-9,
+            "{}",
+            line.strength
+        );
+    }
+
     /// A strip of quads along x; segments cross the strip's rungs to form one line.
     #[test]
     fn segments_chain_into_one_line_and_loops_stay_closed() {

@@ -563,6 +563,27 @@ mod tests {
         assert!(d.crease);
     }
 
+    /// Around a cone point crest lines are cut within three rings, or within
+    /// `CONE_FIT_RADII` fitting radii when that is farther.
+    #[test]
+    fn crest_lines_near_a_cone_point_are_cut_within_three_fitting_radii() {
+        let mesh = grid_mesh();
+        let mut creases = middle_crease(&mesh);
+        // The vertex at (0.8, 0.5); three rings there are about 0.34.
+        creases.cones = vec![5 * 11 + 8];
+        // 0.41 to 0.43 from the cone point, 0.2 from the crease.
+        let crest = FeatureLines {
+            lines: vec![line(&[[0.7, 0.9], [0.8, 0.9], [0.95, 0.9]], false)],
+        };
+        let options = MergeOptions::DEFAULT;
+        let kept = merge_creases(&mesh, crest.clone(), &creases, &options, 0.0).unwrap();
+        assert_eq!(kept.lines.len(), 2);
+        assert_eq!(kept.lines[0], crest.lines[0]);
+        let cut = merge_creases(&mesh, crest, &creases, &options, 0.15).unwrap();
+        assert_eq!(cut.lines.len(), 1);
+        assert!(cut.lines[0].crease);
+    }
+
     #[test]
     fn no_creases_leaves_lines_alone() {
         let mesh = grid_mesh();
