@@ -434,7 +434,8 @@ fn count_lines(lines: &FeatureLines, stats: &mut ExtractStats) {
     stats.valleys = lines.of_kind(LineKind::Valley).count();
     stats.total_length = lines.total_length();
     stats.creases = lines.creases(true).count();
-    stats.crease_length = lines.creases(true).map(|l| l.length).sum();
+    // A fold from +0: `sum` of no creases would be -0 (printed "-0.000000").
+    stats.crease_length = lines.creases(true).fold(0.0, |total, l| total + l.length);
 }
 
 impl Extraction {

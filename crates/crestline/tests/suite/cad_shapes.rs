@@ -191,6 +191,8 @@ fn creases_off_gives_no_crease_lines() {
     options.creases.angle = crestline::lines::crease::CreaseAngle::Off;
     let result = extract(&solid.mesh, &options).unwrap();
     assert_eq!(result.stats.creases, 0);
+    // +0, not the -0 of an empty float sum (`--stats` printed "length -0.000000").
+    assert!(result.stats.crease_length == 0.0 && result.stats.crease_length.is_sign_positive());
     assert!(result.lines.lines.iter().all(|l| !l.crease));
 }
 
