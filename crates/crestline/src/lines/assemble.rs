@@ -194,18 +194,32 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
 /// compares the change of e along the crossed edge, `|Δe| / |edge|` (a lower bound of
 /// |de/dt|), with the curvature's own scale `|k|³`, and asks both ends of the edge to be away
 /// from umbilics ([`UMBILIC_GAP`]; flat points, where both curvatures are zero, pass: the
-/// strength threshold handles them). Points inside faces or at vertices pass.
+/// strength threshold handles them). A point inside a face or at a vertex has no edge to
+/// measure e's change along; it counts unless a corner is near an umbilic. (On a capsule,
+/// a cylinder with hemispherical caps, YBS's crest points alternated between edges next to
+/// the caps' umbilics and faces beside them, and the faces carried a ring of T = 2 around
+/// each cap, where no crest line is.)
 pub fn is_resolved(mesh: &TriMesh, family: &Family<'_>, location: SurfacePoint, k: f64) -> bool {
-    let SurfacePoint::Edge { edge, .. } = location else {
-        return true;
+    let anisotropic = |v: u32| {
+        let (Some(&k), Some(&other)) = (family.k.get(v as usize), family.k_other.get(v as usize))
+        else {
+            return true;
+        };
+        (k - other).abs() >= UMBILIC_GAP * k.abs().max(other.abs())
+    };
+    let edge = match location {
+        SurfacePoint::Edge { edge, .. } => edge,
+        SurfacePoint::Vertex(v) => return anisotropic(v),
+        SurfacePoint::Face { face } => {
+            return mesh
+                .faces()
+                .get(face as usize)
+                .is_none_or(|corners| corners.iter().all(|&v| anisotropic(v)));
+        }
     };
     let [a, b] = mesh.topology().edge(edge);
     let change = (family.e[b as usize] * family.relative_sign(a, b) - family.e[a as usize]).abs();
     let length = (mesh.position(b) - mesh.position(a)).norm();
-    let anisotropic = |v: u32| {
-        let (k, other) = (family.k[v as usize], family.k_other[v as usize]);
-        (k - other).abs() >= UMBILIC_GAP * k.abs().max(other.abs())
-    };
     anisotropic(a) && anisotropic(b) && change >= DEGENERATE_CREST * k.powi(3) * length
 }
 
@@ -329,9 +343,17 @@ mod tests {
         assert!(!is_resolved(&m, &fam, point, 2.0));
         assert!(!resolved(0.99 * bound));
         assert!(!resolved(1e-12));
+        // Inside a face or at a vertex there is no edge to measure e's change along: the
+        // point counts unless a corner is near an umbilic.
+        let face = SurfacePoint::Face { face: 0 };
+        assert!(!is_resolved(&m, &fam, face, 2.0));
+        assert!(!is_resolved(&m, &fam, SurfacePoint::Vertex(a), 2.0));
+        let fam = ridge_family(&k, &e, &zero, &dirs);
+        assert!(is_resolved(&m, &fam, face, 2.0));
+        assert!(is_resolved(&m, &fam, SurfacePoint::Vertex(a), 2.0));
         let empty = crate::curvature::Curvature::default();
         let fam = Family::of(&empty, LineKind::Ridge);
-        assert!(is_resolved(&m, &fam, SurfacePoint::Face { face: 0 }, 2.0));
+        assert!(is_resolved(&m, &fam, face, 2.0));
     }
 
     /// T counts only the part of a line that is a crest: along a strip of quads, e changes

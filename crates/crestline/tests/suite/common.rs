@@ -230,6 +230,52 @@ pub fn check_torus_is_empty(options: &ExtractOptions, name: &str) {
     );
 }
 
+/// A capsule: a cylinder of radius 1 and length 3 with hemispherical caps, meshed by rings
+/// (96 vertices around, every other one moved on by half a step, so that the triangles are
+/// uneven; 24 rings per cap, 40 along the cylinder), a ring on each seam. k_max = 1
+/// everywhere and k_min steps from 0 to 1 at the seams: there is no crest line on it.
+pub fn capsule() -> TriMesh {
+    let (around, cap, along, h) = (96usize, 24usize, 40usize, 1.5);
+    let mut rings: Vec<(f64, f64)> = Vec::new();
+    for j in 1..=cap {
+        let phi = -std::f64::consts::FRAC_PI_2 * (1.0 - j as f64 / cap as f64);
+        rings.push((phi.cos(), -h + phi.sin()));
+    }
+    for j in 1..along {
+        rings.push((1.0, -h + 2.0 * h * j as f64 / along as f64));
+    }
+    for j in 0..cap {
+        let phi = std::f64::consts::FRAC_PI_2 * j as f64 / cap as f64;
+        rings.push((phi.cos(), h + phi.sin()));
+    }
+    let mut positions = vec![[0.0, 0.0, -h - 1.0]];
+    for &(r, z) in &rings {
+        for i in 0..around {
+            let turn = if i % 2 == 0 { 0.5 } else { 0.0 };
+            let t = std::f64::consts::TAU * (i as f64 + turn) / around as f64;
+            positions.push([r * t.cos(), r * t.sin(), z]);
+        }
+    }
+    positions.push([0.0, 0.0, h + 1.0]);
+    let n = around as u32;
+    let ring = |j: usize, i: u32| 1 + j as u32 * n + i % n;
+    let mut faces = Vec::new();
+    for i in 0..n {
+        faces.push([0, ring(0, i + 1), ring(0, i)]);
+    }
+    for j in 0..rings.len() - 1 {
+        for i in 0..n {
+            faces.push([ring(j, i), ring(j, i + 1), ring(j + 1, i + 1)]);
+            faces.push([ring(j, i), ring(j + 1, i + 1), ring(j + 1, i)]);
+        }
+    }
+    let top = positions.len() as u32 - 1;
+    for i in 0..n {
+        faces.push([ring(rings.len() - 1, i), ring(rings.len() - 1, i + 1), top]);
+    }
+    TriMesh::from_arrays(positions, faces).unwrap()
+}
+
 /// Runs `options` twice on `mesh`: the lines must be identical, not empty, and no polyline may
 /// repeat a point.
 pub fn check_deterministic_and_simple(mesh: &TriMesh, options: &ExtractOptions, name: &str) {

@@ -24,6 +24,30 @@ fn hpw_finds_the_ellipsoid_crest_line_at_5k_and_20k_faces() {
     }
 }
 
+/// The capsule's seams, where k_min steps from 0 to 1, blur into the fits beside them; no
+/// method may draw a line there. (YBS drew a ring of T = 2 on each cap, 1.2 fitting radii
+/// from the seam, through faces next to the caps' umbilics; `lines::assemble::is_resolved`.)
+#[test]
+fn capsule_has_no_crest_lines() {
+    let mesh = common::capsule();
+    assert_eq!(
+        mesh.topology()
+            .count_edges(crestline::mesh::EdgeKind::Boundary),
+        0
+    );
+    let diagonal = mesh.bounding_box().diagonal();
+    for method in [Method::Hpw, Method::Ybs, Method::Saliency] {
+        let result =
+            crestline::extract::extract(&mesh, &ExtractOptions::for_method(method)).unwrap();
+        assert!(
+            result.lines.total_length() < 0.05 * diagonal,
+            "{method:?}: {} lines, total length {:.3} (diagonal {diagonal:.3})",
+            result.lines.lines.len(),
+            result.lines.total_length()
+        );
+    }
+}
+
 #[test]
 fn torus_has_no_crest_lines_by_default() {
     check_torus_is_empty(&ExtractOptions::for_method(Method::Hpw), "HPW");
