@@ -449,12 +449,14 @@ fn join_end(
     let Some((p, loc)) = samples.nearest_point(anchor, radius) else {
         return;
     };
-    let end = if at_start {
-        line.points.first()
+    let (end, other) = if at_start {
+        (line.points.first(), line.points.last())
     } else {
-        line.points.last()
+        (line.points.last(), line.points.first())
     };
-    if end.is_none_or(|&e| e == p) {
+    // Already there; or the other end was joined to the same point, and the line would run
+    // out and back (a piece of one point between two cuts).
+    if end.is_none_or(|&e| e == p) || other == Some(&p) {
         return;
     }
     let with_locations = !line.locations.is_empty();
@@ -582,6 +584,23 @@ mod tests {
         let cut = merge_creases(&mesh, crest, &creases, &options, 0.15).unwrap();
         assert_eq!(cut.lines.len(), 1);
         assert!(cut.lines[0].crease);
+    }
+
+    /// A piece of one point between two cuts is joined to the crease once, not out and back.
+    #[test]
+    fn a_piece_between_two_cuts_does_not_run_out_and_back() {
+        let mesh = grid_mesh();
+        let creases = middle_crease(&mesh);
+        // Near the crease, 0.05 off it, near it again.
+        let crest = FeatureLines {
+            lines: vec![line(&[[0.501, 0.1], [0.55, 0.2], [0.501, 0.3]], false)],
+        };
+        let merged = merge_creases(&mesh, crest, &creases, &MergeOptions::DEFAULT, 0.0).unwrap();
+        assert_eq!(merged.lines.len(), 2);
+        let piece = &merged.lines[0];
+        assert_eq!(piece.points.len(), 2, "{:?}", piece.points);
+        assert!((piece.points[0] - Vec3::new(0.5, 0.2, 0.0)).norm() < 1e-9);
+        assert!((piece.length - 0.05).abs() < 1e-9);
     }
 
     #[test]

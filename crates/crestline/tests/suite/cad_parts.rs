@@ -3,8 +3,8 @@
 //! long thin triangles) and remeshed uniformly, with their exact sharp edges (`.fea`: mesh
 //! edges on B-rep edges whose faces meet at more than 1 degree). The lines of `extract`
 //! (default settings, every kind of line) are scored like `score_cad.py` scores them:
-//! precision and recall at 0.5% of the diagonal. The bounds sit a little below the measures
-//! when they were set.
+//! precision and recall at 0.5% of the diagonal. Every part must reach issue 20's 0.98 with
+//! every method (the weakest measured 2026-11-26: saliency's slotted_plate-uniform, 0.981).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use crestline::extract::{ExtractOptions, Method, extract};
@@ -60,19 +60,15 @@ fn f1(method: Method, name: &str) -> f64 {
     f1
 }
 
-/// Every part, both meshings: F1 at least 0.98, or the bound given for a known gap.
-fn check(method: Method, known_gaps: &[(&str, f64)]) {
+/// Every part, both meshings: F1 at least 0.98.
+fn check(method: Method) {
     let mut failures = Vec::new();
     for part in PARTS {
         for meshing in ["export", "uniform"] {
             let name = format!("{part}-{meshing}");
-            let bound = known_gaps
-                .iter()
-                .find(|gap| gap.0 == name)
-                .map_or(0.98, |gap| gap.1);
             let score = f1(method, &name);
-            if score < bound {
-                failures.push(format!("{name}: F1 {score:.3} < {bound}"));
+            if score < 0.98 {
+                failures.push(format!("{name}: F1 {score:.3} < 0.98"));
             }
         }
     }
@@ -90,18 +86,19 @@ fn check(method: Method, known_gaps: &[(&str, f64)]) {
 // (`curvature::jet_fit`, `ILL_POSED`). Every part now passes 0.98 with every method.
 #[test]
 fn hpw_lines_are_the_sharp_edges_of_cad_parts() {
-    check(Method::Hpw, &[]);
+    check(Method::Hpw);
 }
 
 #[test]
 fn ybs_lines_are_the_sharp_edges_of_cad_parts() {
-    check(Method::Ybs, &[]);
+    check(Method::Ybs);
 }
 
-// Saliency, measured 2026-11-26: every part above 0.98 but the uniformly meshed slotted plate
-// (0.979: fifteen short valleys inside its two countersunk holes, strengths 0.01 to 0.28 each,
-// which pass the strength floor as parts of longer strokes, `lines::link`).
+// Saliency, measured 2026-11-26: the uniformly meshed slotted plate is the weakest part (0.981:
+// short valleys inside its two countersunk holes, strengths 0.01 to 0.28 each, which pass the
+// strength floor as parts of longer strokes, `lines::link`; 0.979 before a piece between two
+// cuts stopped being joined to the crease out and back, `lines::merge`).
 #[test]
 fn saliency_lines_are_the_sharp_edges_of_cad_parts() {
-    check(Method::Saliency, &[("slotted_plate-uniform", 0.97)]);
+    check(Method::Saliency);
 }
