@@ -19,7 +19,8 @@
 //! - crest lines are cut within three rings (three times the mean length of its edges) of a
 //!   cone point ([`crate::lines::crease::cone_points`]), or within [`CONE_FIT_RADII`] fitting
 //!   radii of it if that is farther: the fits there straddle the tip or are biased by it;
-//! - what is left of a cut crest line must still be [`MergeOptions::min_length`] long;
+//! - what is left of a cut crest line must still be [`MergeOptions::min_length`] long, not
+//!   counting its joins to the crease;
 //! - crest lines away from creases (fillets, blends, freeform parts) are kept as they are.
 //!
 //! Distances are measured to the crease curves themselves (exactly: resampled every half
@@ -349,6 +350,9 @@ fn cut_line(
                 join.max((line.points[i] - end).norm() + tolerance)
             })
         };
+        // What is left of the crest line must be long enough by itself: the joins to the
+        // crease do not count (a single point beside a crease, joined to it, is not a line).
+        let own_length = piece.length;
         if let Some(&start) = piece.points.first() {
             let radius = reach(start, (first > 0).then(|| order[first - 1]));
             join_end(&mut piece, samples, start, radius, true);
@@ -357,7 +361,7 @@ fn cut_line(
             let radius = reach(end, (k < order.len()).then(|| order[k]));
             join_end(&mut piece, samples, end, radius, false);
         }
-        if piece.length >= min_length && piece.points.len() >= 2 {
+        if own_length >= min_length && piece.points.len() >= 2 {
             let ratio = if line.length > 0.0 {
                 (piece.length / line.length).min(1.0)
             } else {
@@ -586,16 +590,26 @@ mod tests {
         assert!(cut.lines[0].crease);
     }
 
-    /// A piece of one point between two cuts is joined to the crease once, not out and back.
+    /// A piece of one point between two cuts is no line (its joins do not count towards the
+    /// minimum length); without a minimum length it is joined to the crease once, not out
+    /// and back.
     #[test]
-    fn a_piece_between_two_cuts_does_not_run_out_and_back() {
+    fn a_piece_of_one_point_between_two_cuts() {
         let mesh = grid_mesh();
         let creases = middle_crease(&mesh);
         // Near the crease, 0.05 off it, near it again.
         let crest = FeatureLines {
             lines: vec![line(&[[0.501, 0.1], [0.55, 0.2], [0.501, 0.3]], false)],
         };
-        let merged = merge_creases(&mesh, crest, &creases, &MergeOptions::DEFAULT, 0.0).unwrap();
+        let merged =
+            merge_creases(&mesh, crest.clone(), &creases, &MergeOptions::DEFAULT, 0.0).unwrap();
+        assert_eq!(merged.lines.len(), 1);
+        assert!(merged.lines[0].crease);
+        let options = MergeOptions {
+            min_length: 0.0,
+            ..MergeOptions::DEFAULT
+        };
+        let merged = merge_creases(&mesh, crest, &creases, &options, 0.0).unwrap();
         assert_eq!(merged.lines.len(), 2);
         let piece = &merged.lines[0];
         assert_eq!(piece.points.len(), 2, "{:?}", piece.points);
