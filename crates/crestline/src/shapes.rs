@@ -21,6 +21,28 @@ fn build(positions: Vec<Vec3>, faces: Vec<[u32; 3]>) -> TriMesh {
     }
 }
 
+/// A strip of `n` unit quads along x, between y = 0 and y = 1 (vertices `2i` at (i, 0) and
+/// `2i + 1` at (i, 1)), each cut along its diagonal from (i, 0) to (i + 1, 1): the smallest
+/// mesh on which the tracing and line-assembly tests lay a line across rungs.
+#[cfg(test)]
+pub(crate) fn quad_strip(n: u32) -> TriMesh {
+    let positions = (0..=n)
+        .flat_map(|i| {
+            [
+                Vec3::new(f64::from(i), 0.0, 0.0),
+                Vec3::new(f64::from(i), 1.0, 0.0),
+            ]
+        })
+        .collect();
+    let faces = (0..n)
+        .flat_map(|i| {
+            let (a, b, c, d) = (2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1);
+            [[a, b, c], [a, c, d]]
+        })
+        .collect();
+    build(positions, faces)
+}
+
 /// The regular octahedron with vertices ±e_x, ±e_y, ±e_z (in that order), wound outward: the
 /// smallest closed mesh whose shape operator is known exactly (1 in every direction at each
 /// vertex).

@@ -362,17 +362,7 @@ mod tests {
     #[test]
     fn strength_counts_only_the_crest_part_of_a_line() {
         let n = 6u32;
-        let mut p = Vec::new();
-        for i in 0..=n {
-            p.push([i as f64, 0.0, 0.0]);
-            p.push([i as f64, 1.0, 0.0]);
-        }
-        let mut faces = Vec::new();
-        for i in 0..n {
-            let (a, b, c, d) = (2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1);
-            faces.extend([[a, b, c], [a, c, d]]);
-        }
-        let m = TriMesh::from_arrays(p, faces).unwrap();
+        let m = crate::shapes::quad_strip(n);
         let nv = m.num_vertices();
         let e: Vec<f64> = m
             .positions()
@@ -413,17 +403,7 @@ mod tests {
     #[test]
     fn segments_chain_into_one_line_and_loops_stay_closed() {
         let n = 6;
-        let mut p = Vec::new();
-        for i in 0..=n {
-            p.push([i as f64, 0.0, 0.0]);
-            p.push([i as f64, 1.0, 0.0]);
-        }
-        let mut faces = Vec::new();
-        for i in 0..n as u32 {
-            let (a, b, c, d) = (2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1);
-            faces.extend([[a, b, c], [a, c, d]]);
-        }
-        let m = TriMesh::from_arrays(p, faces).unwrap();
+        let m = crate::shapes::quad_strip(n);
         let nv = m.num_vertices();
         // e = y - 0.5 with directions along y: zero line y = 0.5, crossing the rungs and diagonals.
         let e: Vec<f64> = m.positions().iter().map(|p| p.y - 0.5).collect();

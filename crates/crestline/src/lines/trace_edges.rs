@@ -120,17 +120,7 @@ mod tests {
     /// A strip along x with e_max = 0.5 - y along dir_max = +y: k_max decreases past y = 0.5
     /// after increasing before, a maximum (ridge) on y = 0.5.
     fn strip(e_sign: f64) -> (TriMesh, Vec<f64>, Vec<Vec3>) {
-        let mut p = Vec::new();
-        for i in 0..=4 {
-            p.push([i as f64, 0.0, 0.0]);
-            p.push([i as f64, 1.0, 0.0]);
-        }
-        let mut faces = Vec::new();
-        for i in 0..4u32 {
-            let (a, b, c, d) = (2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1);
-            faces.extend([[a, b, c], [a, c, d]]);
-        }
-        let m = TriMesh::from_arrays(p, faces).unwrap();
+        let m = crate::shapes::quad_strip(4);
         let e = m.positions().iter().map(|p| e_sign * (0.5 - p.y)).collect();
         // Alternate the direction signs: the tracing must not care.
         let dirs = (0..m.num_vertices())

@@ -525,28 +525,21 @@ impl Context<'_> {
         }
         let mut on_triangles = self.needs_triangle_samples(v, r, s);
         let p = self.mesh.position(v);
-        let mut first = None;
-        let mut n0 = Vec3::zeros();
-        for _ in 0..2 {
-            let normal = if on_triangles {
-                self.sample_triangles(v, r, s)
-            } else {
-                self.vertex_samples(p, r, s)
-            };
-            let Some(normal) = normal.try_normalize(1e-300) else {
+        let Some((mut n0, mut first)) = self.first_fit(v, p, r, on_triangles, s) else {
+            return fallback(self.normals[v as usize]);
+        };
+        // Vertices on too few rows for the polynomial across them (triangles several times
+        // longer than wide): the surface between the rows is in the triangles.
+        if !on_triangles
+            && first
+                .as_ref()
+                .is_none_or(|fit| fit.conditioning < ILL_POSED)
+        {
+            on_triangles = true;
+            let Some(refit) = self.first_fit(v, p, r, on_triangles, s) else {
                 return fallback(self.normals[v as usize]);
             };
-            n0 = normal;
-            first = self.fit_in_frame(p, n0, r, s);
-            // Vertices on too few rows for the polynomial across them (triangles several
-            // times longer than wide): the surface between the rows is in the triangles.
-            let ill_posed = first
-                .as_ref()
-                .is_none_or(|fit| fit.conditioning < ILL_POSED);
-            if on_triangles || !ill_posed {
-                break;
-            }
-            on_triangles = true;
+            (n0, first) = refit;
         }
         let Some(first) = first else {
             return fallback(n0);
@@ -567,6 +560,26 @@ impl Context<'_> {
             second.residual * r
         };
         (estimate, residual, noise)
+    }
+
+    /// Samples the disc (at its vertices, or on its triangles) and fits it in the frame of
+    /// the samples' kernel-weighted area normal: that normal and the fit (`None` when it
+    /// cannot be solved); `None` when the normal vanishes.
+    fn first_fit(
+        &self,
+        v: u32,
+        p: Vec3,
+        r: f64,
+        on_triangles: bool,
+        s: &mut Scratch,
+    ) -> Option<(Vec3, Option<Fit>)> {
+        let normal = if on_triangles {
+            self.sample_triangles(v, r, s)
+        } else {
+            self.vertex_samples(p, r, s)
+        };
+        let n0 = normal.try_normalize(1e-300)?;
+        Some((n0, self.fit_in_frame(p, n0, r, s)))
     }
 
     /// Puts the disc's vertices into `s.points` and returns the first normal: the

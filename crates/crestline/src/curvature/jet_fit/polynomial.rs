@@ -93,7 +93,7 @@ pub(super) fn solve<const N: usize>(
     // identity in the rotation-orthogonal basis (`ROTATION_SCALE`), so that it does not
     // depend on how the tangent frame is turned.
     let diagonal: [f64; N] = std::array::from_fn(|k| ata[k][k]);
-    let trace = (0..N).fold(0.0, |sum, k| sum + ata[k][k]);
+    let trace = diagonal.iter().fold(0.0, |sum, d| sum + d);
     let ridge = 1e-12 * trace / N as f64;
     for (k, column) in ata.iter_mut().enumerate() {
         column[k] += ridge / (ROTATION_SCALE[k] * ROTATION_SCALE[k]);
