@@ -16,8 +16,9 @@ use crate::mesh::mesh_from_arrays;
 /// Options, with the defaults of `crestline curvature`: `estimator` "jet-fit" (default),
 /// "shape-operator" or "cubic-fit"; `rings`, the k-ring of the cubic fit (1 to 4, default 1);
 /// `radius`, the jet fit's disc radius in sample spacings (default 2.5); `degree`, the jet
-/// fit's polynomial degree (3 or 4, default 3); `no_noise_adaptation`, keep the jet fit's
-/// radius fixed on noisy meshes; `keep_orientation`, as for `extract`.
+/// fit's polynomial degree (3 or 4, default 4; 4 lets the fit choose on noisy meshes);
+/// `no_noise_adaptation`, keep the jet fit's radius fixed on noisy meshes;
+/// `keep_orientation`, as for `extract`.
 ///
 /// Returns a dict of numpy arrays indexed like the vertices: "k_max", "k_min", "e_max",
 /// "e_min" (n,) and "dir_max", "dir_min", "normals" (n, 3). Signs: a sphere of radius r

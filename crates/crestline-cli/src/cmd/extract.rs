@@ -572,11 +572,15 @@ fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
     }
     if let Some(j) = s.jet_fit {
         out += &format!(
-            "jet fit                radius {:.2} spacings ({:.4} model units), noise {}\n",
+            "jet fit                radius {:.2} spacings ({:.4} model units), quartic weight {:.2}, noise {}\n",
             j.radius,
             j.radius * j.spacing,
+            j.quartic_weight,
             if j.noise > crestline::curvature::jet_fit::REFERENCE_NOISE {
-                format!("{:.4} spacings", j.noise)
+                format!(
+                    "{:.4} spacings (standard deviation {:.4})",
+                    j.noise, j.sigma
+                )
             } else {
                 "none measured".to_string()
             }
@@ -622,6 +626,8 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
             "spacing": j.spacing,
             "radius_spacings": j.radius,
             "noise_spacings": j.noise,
+            "noise_sigma_spacings": j.sigma,
+            "quartic_weight": j.quartic_weight,
         })),
         "load_seconds": io.load.as_secs_f64(),
         "write_seconds": io.write.as_secs_f64(),

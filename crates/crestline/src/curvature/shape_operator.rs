@@ -448,7 +448,13 @@ pub fn shape_operator(mesh: &TriMesh, options: &ShapeOperatorOptions) -> Curvatu
         vertex_normals,
         || (),
         |_, v, normal| {
-            let Some(operator) = operators[v as usize].as_ref().map(symmetric64) else {
+            // A star whose face normals cancel (folded onto itself) has no normal to take
+            // the operator's tangent plane from.
+            let Some(operator) = operators[v as usize]
+                .as_ref()
+                .filter(|_| normal != Vec3::zeros())
+                .map(symmetric64)
+            else {
                 return VertexEstimate::fallback(normal);
             };
             let (k_max, k_min, dir_max, dir_min) = match &direction_operators {

@@ -31,6 +31,16 @@
 //!    `e = −D³h[t, t, t]` (the derivative of the eigenvalue of `−Hess h` along t; see
 //!    [`crate::curvature::cubic_fit`](mod@crate::curvature::cubic_fit), step 5).
 //!
+//! **Degree.** Quartic on clean surfaces. On noisy ones the second fit blends the cubic and
+//! the quartic of the same samples by their expected errors (`Blend`): the quartic's
+//! Hessian is not biased by the surface's fourth-order terms, the cubic's carries less of
+//! the noise. The weight weighs the cubic's bias, measured over a probe of the mesh, against
+//! each disc's own extra noise, computed exactly. Measured (median quartic weight): the
+//! noisy public cases (noise 0.1 spacings) 0 to 0.52; the noisy torus, whose tube is little
+//! wider than the disc, 0.96; scans, whose "noise" of hundredths of a spacing is mostly the
+//! truncation error of their sampling, the coarse torus `ring/reg5k` and a CAD export
+//! taken for noisy, 0.99 to 1, less only where a disc is one-sided (boundaries, creases).
+//!
 //! **Scale.** r is [`JetFitOptions::radius`] times the mesh's sample spacing
 //! `h = sqrt(2 A / (√3 V))` (A the area, V the vertices in use): the edge length of a regular
 //! triangulation with that density. Unlike the mean edge length, it is not changed by slivers
@@ -67,13 +77,14 @@ pub struct JetFitOptions {
     ///
     /// Default: 2.5.
     pub radius: f64,
-    /// Degree of the fitted polynomial on clean surfaces: 3 (cubic) or 4 (quartic). The
-    /// quartic's second and third derivatives are not biased by the fourth-order terms of the
-    /// surface: on the public clean cases of `../shared/quality` the worst RMS error of k is
-    /// 0.8% of max |k| with quartics and 7.7% with cubics (`bench/quality/run.sh`). When
-    /// [`JetFitOptions::adapt_to_noise`] finds the surface noisy the fit is cubic whatever
-    /// this says: there the fit's variance dominates, and the quartic's five more
-    /// coefficients double the error of e (noisy public cases: worst e RMS 1.7 against 0.39).
+    /// Degree of the fitted polynomial: 3 (cubic) or 4 (quartic). The quartic's second and
+    /// third derivatives are not biased by the fourth-order terms of the surface: on the
+    /// public clean cases of `../shared/quality` the worst RMS error of k is 0.8% of max |k|
+    /// with quartics and 7.7% with cubics (`bench/quality/run.sh`). Its five more
+    /// coefficients carry more noise, though: when [`JetFitOptions::adapt_to_noise`] finds
+    /// the surface noisy, 4 blends cubic and quartic by their expected errors, bias and
+    /// noise together (measured on the mesh; see the module docs, *Degree*). 3 is cubic
+    /// everywhere.
     ///
     /// Default: 4.
     pub degree: usize,
@@ -146,9 +157,31 @@ pub struct JetFitReport {
     pub spacing: f64,
     /// The fitting radius used, in units of h.
     pub radius: f64,
-    /// Noise level: the median over vertices of the fits' weighted RMS residual, in units of h
-    /// (about 0.001 on clean meshes, the standard deviation of the noise on noisy ones).
+    /// Noise level: the median over vertices of the fits' weighted RMS residual, in units of
+    /// h (below [`REFERENCE_NOISE`] on clean meshes). It is the level the radius is chosen
+    /// by ([`noise_radius`]); a residual of a fit with 15 coefficients is smaller than the
+    /// noise that makes it (see `sigma`).
     pub noise: f64,
+    /// The standard deviation of the noise, in units of h: the median over the probe of the
+    /// fits' residual divided by the residual that white noise of unit standard deviation
+    /// leaves in expectation (`Σ w − Σ w² mᵀ M⁻¹ m` of the weighted sum of squares: the fit
+    /// takes up part of the noise). On the public noisy cases, made with noise of 0.1 times
+    /// the mean edge, it measures 0.096 to 0.118 where `noise` measures 0.075 to 0.090. It
+    /// scales the simulated noise ([`crate::curvature::Curvature::extremality_noise`]) and
+    /// weighs the quartic's extra noise.
+    pub sigma: f64,
+    /// The weight of the quartic against the cubic in the fits (see
+    /// [`JetFitOptions::degree`]): 1 for quartics, 0 for cubics; on noisy meshes its median
+    /// over the noise probe's vertices.
+    pub quartic_weight: f64,
+}
+
+/// What the noise probe measured ([`Context::probe_noise`], model units).
+struct NoiseProbe {
+    /// The median weighted RMS residual of the fits ([`JetFitReport::noise`]).
+    residual: f64,
+    /// The standard deviation of the noise ([`JetFitReport::sigma`]).
+    sigma: f64,
 }
 
 /// Curvature fields of `mesh` by jet fitting over geodesic discs (see the module docs).
@@ -200,29 +233,41 @@ pub fn jet_fit_split(
         residual: false,
         keys: &keys,
         neighbours: &neighbours,
+        blend: None,
     };
-    let sigma = context.probe_noise(options.radius);
-    let noise = sigma / spacing.max(f64::MIN_POSITIVE);
+    let probe = context.probe_noise(options.radius);
+    let noise = probe.residual / spacing.max(f64::MIN_POSITIVE);
     let noisy = options.adapt_to_noise && noise > REFERENCE_NOISE;
     let radius = if noisy {
         noise_radius(options.radius, noise)
     } else {
         options.radius
     };
-    // On noise the variance of the fit, not the truncation of the series, dominates: the
-    // cubic's 10 coefficients carry less of it than the quartic's 15 (see `degree`).
+    // On noise the first fit, which only gives the frame, is cubic; the second blends the
+    // cubic and the quartic by their expected errors (see `Blend`).
+    let (blend, quartic_weight) = if noisy && options.degree == 4 {
+        let (bias, weight) = context.cubic_bias(radius, probe.sigma);
+        let blend = Blend {
+            bias,
+            sigma: probe.sigma,
+        };
+        (Some(blend), weight)
+    } else {
+        (None, if options.degree == 4 { 1.0 } else { 0.0 })
+    };
     let fit_options = JetFitOptions {
         degree: if noisy { 3 } else { options.degree },
         ..*options
     };
     let context = Context {
         options: &fit_options,
+        blend: blend.as_ref(),
         ..context
     };
     let (mut curvature, mut simulated) = context.run(radius);
     if noise > REFERENCE_NOISE {
         for x in simulated.iter_mut().flatten() {
-            *x *= sigma;
+            *x *= probe.sigma;
         }
         curvature.set_simulated_noise(simulated);
     }
@@ -230,6 +275,8 @@ pub fn jet_fit_split(
         spacing,
         radius,
         noise,
+        sigma: probe.sigma / spacing.max(f64::MIN_POSITIVE),
+        quartic_weight,
     };
     curvature.jet_fit = Some(report);
     Ok((curvature, report))
@@ -238,9 +285,11 @@ pub fn jet_fit_split(
 /// The noise level (in sample spacings) that the fitting radius is referred to. Clean meshes
 /// measure below it: their residual is the quartic probe's truncation error (below 0.0003
 /// spacings on the public clean cases, bumps of 3 to 4 spacings included), and they keep
-/// the base radius and report no noise. Truncation error is not told from noise yet: the
-/// coarsest public torus (`ring/reg5k`, about 12 samples around the tube) measures 0.0013
-/// and is fitted as a noisy mesh.
+/// the base radius and report no noise. Truncation error is not told from noise here: the
+/// coarsest public torus (`ring/reg5k`) measures 0.0013 and is fitted as a noisy mesh, with
+/// a wider disc. There the blend of cubic and quartic (see the module docs, *Degree*) finds
+/// the cubic's bias far above the noise and fits quartics: k within 0.8% of max |k| (7.7%
+/// with cubics).
 pub const REFERENCE_NOISE: f64 = 0.0005;
 
 /// The radius (in sample spacings) for a measured noise level σ (in sample spacings). The
@@ -379,6 +428,40 @@ struct Context<'a> {
     keys: &'a [u64],
     /// Per vertex, its neighbours and the edges to them.
     neighbours: &'a Neighbours,
+    /// On noisy meshes: how the second fit blends cubic and quartic.
+    blend: Option<&'a Blend>,
+}
+
+/// The blend of cubic and quartic in the second fit on noisy meshes. Both fits are
+/// least-squares estimates from the same samples, the cubic nested in the quartic: the
+/// quartic's Hessian H₄ is not biased by the surface's fourth-order terms and the cubic's
+/// H₃ is, by b, while `H₄ − H₃` carries extra noise of variance ΔV, uncorrelated with H₃.
+/// `H₃ + λ (H₄ − H₃)` has expected squared error `(1 − λ)² b² + var₃ + λ² ΔV`, least at
+/// `λ = b² / (b² + ΔV)`. ΔV is computed exactly for each disc
+/// ([`polynomial::Nested::extra_variance`]): large where the disc is one-sided (at
+/// boundaries and creases, where the quartic extrapolates) and on small discs. b² is the
+/// mesh's mean, measured by [`Context::cubic_bias`].
+#[derive(Debug, Clone, Copy)]
+struct Blend {
+    /// b²: the mean squared bias of the cubic's Hessian (model units, 1/length²).
+    bias: f64,
+    /// The standard deviation of the noise (model units).
+    sigma: f64,
+}
+
+impl Blend {
+    /// λ for a disc of radius `r` whose fits' Hessians differ by extra noise variance
+    /// `extra_variance` under unit noise (coefficient units).
+    fn quartic_weight(&self, extra_variance: f64, r: f64) -> f64 {
+        // Coefficients are in units of r, heights divided by r: the noise of the heights
+        // is σ / r and the Hessian in model units is the coefficients' over r.
+        let variance = extra_variance * (self.sigma / (r * r)).powi(2);
+        if self.bias > 0.0 && variance.is_finite() {
+            self.bias / (self.bias + variance)
+        } else {
+            0.0
+        }
+    }
 }
 
 /// Crease edges and the vertices on them.
@@ -460,11 +543,10 @@ fn next_stamp(marks: &mut Vec<u32>, stamp: &mut u32, n: usize) -> u32 {
 }
 
 impl Context<'_> {
-    /// The noise level of the surface (model units): the median weighted RMS residual of
-    /// quartic fits with radius `radius` (in spacings) at up to 20,000 vertices spread over
-    /// the mesh. A quartic's residual on a smooth surface is its truncation error, orders of
-    /// magnitude below any noise a scanner leaves.
-    fn probe_noise(&self, radius: f64) -> f64 {
+    /// The noise level of the surface: quartic fits with radius `radius` (in spacings) at up
+    /// to 20,000 vertices spread over the mesh. A quartic's residual on a smooth surface is
+    /// its truncation error, orders of magnitude below any noise a scanner leaves.
+    fn probe_noise(&self, radius: f64) -> NoiseProbe {
         let n = self.mesh.num_vertices();
         let stride = n.div_ceil(PROBE_SAMPLES).max(1) as u64;
         let quartic = JetFitOptions {
@@ -476,7 +558,7 @@ impl Context<'_> {
             residual: true,
             ..*self
         };
-        let mut residuals: Vec<f64> = (0..n as u32)
+        let residuals: Vec<[f64; 2]> = (0..n as u32)
             .into_par_iter()
             .filter(|&v| self.keys[v as usize] % stride == 0)
             .map(|v| {
@@ -486,9 +568,74 @@ impl Context<'_> {
                         .1
                 })
             })
-            .filter(|r| r.is_finite())
+            .filter(|r| r.iter().all(|x| x.is_finite()))
             .collect();
-        median(&mut residuals)
+        let [residual, sigma] =
+            [0, 1].map(|k| median(&mut residuals.iter().map(|r| r[k]).collect::<Vec<_>>()));
+        NoiseProbe { residual, sigma }
+    }
+
+    /// The mean squared bias b² of the cubic's Hessian at radius `radius` (in spacings) on a
+    /// surface with noise of standard deviation `sigma` (model units), and the median
+    /// quartic weight ([`Blend`]) at the probe's vertices. At each, the cubic and the
+    /// quartic are fitted to the same samples; as the fits are nested,
+    /// `E|H₃ − H₄|² = b² + ΔV`, so the mean of `|H₃ − H₄|² − σ² ΔV` over the probe
+    /// estimates b² (clamped at 0: no bias measured, cubics).
+    fn cubic_bias(&self, radius: f64, sigma: f64) -> (f64, f64) {
+        let n = self.mesh.num_vertices();
+        let stride = n.div_ceil(PROBE_SAMPLES).max(1) as u64;
+        let probes: Vec<[f64; 3]> = (0..n as u32)
+            .into_par_iter()
+            .filter(|&v| self.keys[v as usize] % stride == 0)
+            .filter_map(|v| {
+                SCRATCH.with(|s| self.fit_both(v, radius * self.spacing, &mut s.borrow_mut()))
+            })
+            .filter(|probe| probe.iter().all(|x| x.is_finite()))
+            .collect();
+        let count = probes.len().max(1) as f64;
+        let bias = (probes
+            .iter()
+            .map(|[d, dv, r]| d - dv * (sigma / (r * r)).powi(2))
+            .sum::<f64>()
+            / count)
+            .max(0.0);
+        let blend = Blend { bias, sigma };
+        let mut weights: Vec<f64> = probes
+            .iter()
+            .map(|&[_, dv, r]| blend.quartic_weight(dv, r))
+            .collect();
+        (bias, median(&mut weights))
+    }
+
+    /// At vertex `v`: the squared (Frobenius) norm of the difference between the cubic's and
+    /// the quartic's Hessians (model units) of one disc's samples (radius `radius`, model
+    /// units), the variance of that difference under unit noise
+    /// ([`polynomial::Nested::extra_variance`]) and the disc's radius. `None` where either
+    /// fit fails or is ill-posed, or where the disc is sampled on triangles (the chord
+    /// error of flat pieces is neither noise nor surface).
+    fn fit_both(&self, v: u32, radius: f64, s: &mut Scratch) -> Option<[f64; 3]> {
+        if self.mesh.topology().vertex_faces(v).is_empty() {
+            return None;
+        }
+        let r = self.grow_disc(v, radius, s);
+        if self.needs_triangle_samples(v, r, s) {
+            return None;
+        }
+        let p = self.mesh.position(v);
+        let normal = self.vertex_samples(p, r, s).try_normalize(1e-300)?;
+        self.frame_samples(p, normal, r, s);
+        if s.samples.len() < 20 {
+            return None;
+        }
+        let nested = polynomial::solve_nested(&s.samples)?;
+        if nested.quartic.conditioning < ILL_POSED {
+            return None;
+        }
+        let [h3, _] = nested.cubic.hessians(r);
+        let [h4, _] = nested.quartic.hessians(r);
+        let d = [h3[0] - h4[0], h3[1] - h4[1], h3[2] - h4[2]];
+        let squared = d[0] * d[0] + 2.0 * d[1] * d[1] + d[2] * d[2];
+        Some([squared, nested.extra_variance, r])
     }
 
     /// Fits every vertex with radius `radius` (in spacings); returns the fields and the
@@ -496,7 +643,7 @@ impl Context<'_> {
     /// the heights ([`simulated_noise`]).
     fn run(&self, radius: f64) -> (Curvature, [Vec<f64>; 2]) {
         let n = self.mesh.num_vertices();
-        let results: Vec<(VertexEstimate, f64, [f64; 2])> = (0..n as u32)
+        let results: Vec<(VertexEstimate, [f64; 2], [f64; 2])> = (0..n as u32)
             .into_par_iter()
             .map(|v| {
                 SCRATCH.with(|s| self.fit_vertex(v, radius * self.spacing, &mut s.borrow_mut()))
@@ -507,22 +654,22 @@ impl Context<'_> {
         (curvature, simulated)
     }
 
-    /// The estimate of vertex `v`, its fit's weighted RMS residual (NaN on a fallback) and
-    /// the extremalities of its fit to the simulated noise (0 on a fallback).
-    fn fit_vertex(&self, v: u32, radius: f64, s: &mut Scratch) -> (VertexEstimate, f64, [f64; 2]) {
-        let fallback = |normal| (VertexEstimate::fallback(normal), f64::NAN, [0.0; 2]);
+    /// The estimate of vertex `v`; its fit's weighted RMS residual (model units) and the
+    /// noise level this implies (the residual over that of the fit to the simulated noise;
+    /// both NaN on a fallback and on triangle samples); the extremalities of its fit to the
+    /// simulated noise (0 on a fallback).
+    fn fit_vertex(
+        &self,
+        v: u32,
+        radius: f64,
+        s: &mut Scratch,
+    ) -> (VertexEstimate, [f64; 2], [f64; 2]) {
+        let fallback = |normal| (VertexEstimate::fallback(normal), [f64::NAN; 2], [0.0; 2]);
         let topo = self.mesh.topology();
         if topo.vertex_faces(v).is_empty() || radius.is_nan() || radius <= 0.0 {
             return fallback(Vec3::zeros());
         }
-        let mut r = radius;
-        for _ in 0..5 {
-            self.gather_disc(v, r, s);
-            if s.disc.len() >= self.options.min_points {
-                break;
-            }
-            r *= 1.5;
-        }
+        let r = self.grow_disc(v, radius, s);
         let mut on_triangles = self.needs_triangle_samples(v, r, s);
         let p = self.mesh.position(v);
         let Some((mut n0, mut first)) = self.first_fit(v, p, r, on_triangles, s) else {
@@ -549,17 +696,35 @@ impl Context<'_> {
         let n1 = (n0 - u * first.coef[1] - w * first.coef[2])
             .try_normalize(1e-300)
             .unwrap_or(n0);
-        let Some(second) = self.fit_in_frame(p, n1, r, s) else {
+        let Some(second) = self.fit_in_frame(p, n1, r, s, self.blend) else {
             return fallback(n1);
         };
         let (estimate, noise) = second.estimate(n1, r);
         // Pieces of flat triangles are off a curved surface by the chord error, not by noise.
         let residual = if on_triangles {
-            f64::NAN
+            [f64::NAN; 2]
         } else {
-            second.residual * r
+            [
+                second.residual * r,
+                second.residual / second.noise_residual * r,
+            ]
         };
         (estimate, residual, noise)
+    }
+
+    /// Gathers the disc of `v` with radius `radius` (model units), grown by half up to four
+    /// times while it has fewer than [`JetFitOptions::min_points`] vertices; returns the
+    /// radius of the disc gathered.
+    fn grow_disc(&self, v: u32, radius: f64, s: &mut Scratch) -> f64 {
+        let mut r = radius;
+        for _ in 0..5 {
+            self.gather_disc(v, r, s);
+            if s.disc.len() >= self.options.min_points {
+                break;
+            }
+            r *= 1.5;
+        }
+        r
     }
 
     /// Samples the disc (at its vertices, or on its triangles) and fits it in the frame of
@@ -579,7 +744,7 @@ impl Context<'_> {
             self.vertex_samples(p, r, s)
         };
         let n0 = normal.try_normalize(1e-300)?;
-        Some((n0, self.fit_in_frame(p, n0, r, s)))
+        Some((n0, self.fit_in_frame(p, n0, r, s, None)))
     }
 
     /// Puts the disc's vertices into `s.points` and returns the first normal: the
@@ -664,17 +829,38 @@ impl Context<'_> {
         }
     }
 
-    /// Weighted least-squares fit of the disc's heights over the tangent plane of `normal`.
-    fn fit_in_frame(&self, p: Vec3, normal: Vec3, r: f64, s: &mut Scratch) -> Option<Fit> {
+    /// The points of the disc (`s.points`) as samples in the tangent frame of `normal` at
+    /// `p`, divided by `r` (`s.samples`).
+    fn frame_samples(&self, p: Vec3, normal: Vec3, r: f64, s: &mut Scratch) {
         let (u, w, n) = tangent_frame(normal);
-        s.samples.clear();
         let frame = [u, w, n];
+        s.samples.clear();
         for q in &s.points {
             if let Some(sample) = q.sample(p, frame, r) {
                 s.samples.push(sample);
             }
         }
+    }
+
+    /// Weighted least-squares fit of the disc's heights over the tangent plane of `normal`.
+    /// With `blend`, a blend of cubic and quartic ([`Blend`]) where the disc carries both.
+    fn fit_in_frame(
+        &self,
+        p: Vec3,
+        normal: Vec3,
+        r: f64,
+        s: &mut Scratch,
+        blend: Option<&Blend>,
+    ) -> Option<Fit> {
+        self.frame_samples(p, normal, r, s);
         let count = s.samples.len();
+        if let Some(blend) = blend
+            && count >= 20
+            && let Some(nested) = polynomial::solve_nested(&s.samples)
+        {
+            let lambda = blend.quartic_weight(nested.extra_variance, r);
+            return Some(Fit::blend(nested.cubic, nested.quartic, lambda));
+        }
         // Degree by what the disc can carry: 15, 10 and 6 coefficients, with some surplus;
         // a lower one when the normal equations cannot be factored.
         let mut fit = None;

@@ -65,6 +65,10 @@ pub(super) struct Fit {
     noise_coef: [f64; 15],
     pub(super) degree: usize,
     pub(super) residual: f64,
+    /// The weighted RMS residual that white noise of unit variance in the heights leaves
+    /// in expectation (less than 1: the fit takes up part of the noise); NaN unless the
+    /// residual is measured.
+    pub(super) noise_residual: f64,
     /// The smallest ratio of a Cholesky pivot to the diagonal entry of the normal equations
     /// it comes from: near 1 for samples spread over the disc, at the level of the
     /// regularisation (1e-12) where the samples cannot tell a monomial from the others, as
@@ -85,7 +89,66 @@ pub(super) fn solve<const N: usize>(
     degree: usize,
     residual: bool,
 ) -> Option<Fit> {
-    let (mut ata, rhs, weight) = normal_equations::<N>(samples);
+    let (ata, rhs, weight) = normal_equations::<N>(samples);
+    solve_system(ata, rhs, weight, samples, degree, residual).map(|(fit, _)| fit)
+}
+
+/// The cubic and the quartic fit of the same samples ([`solve_nested`]).
+pub(super) struct Nested {
+    pub(super) cubic: Fit,
+    pub(super) quartic: Fit,
+    /// The variance of the difference of the two fits' Hessians (squared Frobenius norm of
+    /// `(2c₃, c₄; c₄, 2c₅)`, coefficient units) under white noise of unit variance in the
+    /// heights: `Σ w² |m · (u₄ − u₃)|²` over the samples, with `u = M⁻¹ g` for each Hessian
+    /// functional g and the normal matrix M of each fit.
+    pub(super) extra_variance: f64,
+}
+
+/// The cubic and the quartic fit of `samples` (without residuals), from one set of normal
+/// equations: the cubic's are the leading block of the quartic's, entry for entry, so the
+/// cubic is [`solve`]'s to the bit. `None` unless both can be solved.
+pub(super) fn solve_nested(samples: &[Sample]) -> Option<Nested> {
+    let (ata, rhs, weight) = normal_equations::<15>(samples);
+    let ata3: [[f64; 10]; 10] = std::array::from_fn(|j| std::array::from_fn(|i| ata[j][i]));
+    let rhs3: [[f64; 2]; 10] = std::array::from_fn(|i| rhs[i]);
+    let (cubic, l3) = solve_system(ata3, rhs3, weight, samples, 3, false)?;
+    let (quartic, l4) = solve_system(ata, rhs, weight, samples, 4, false)?;
+    // The Hessian's entries as functionals of the coefficients, scaled for the Frobenius
+    // norm: h_xx = 2 c₃, h_xy = c₄ (twice), h_yy = 2 c₅.
+    let functionals = [(3, 2.0), (4, std::f64::consts::SQRT_2), (5, 2.0)];
+    let difference: [[f64; 15]; 3] = functionals.map(|(k, scale)| {
+        let mut g4 = [[0.0; 2]; 15];
+        g4[k][0] = scale;
+        let mut g3 = [[0.0; 2]; 10];
+        g3[k][0] = scale;
+        let (u4, u3) = (solve_factored(&l4, g4), solve_factored(&l3, g3));
+        std::array::from_fn(|i| u4[i][0] - if i < 10 { u3[i][0] } else { 0.0 })
+    });
+    let mut extra_variance = 0.0;
+    for s in samples {
+        let m = monomials::<15>(s.x, s.y);
+        for u in &difference {
+            let a = s.w * dot(&m, u);
+            extra_variance += a * a;
+        }
+    }
+    Some(Nested {
+        cubic,
+        quartic,
+        extra_variance,
+    })
+}
+
+/// [`solve`] from the normal equations ([`normal_equations`]); also returns the Cholesky
+/// factor of the (regularised) normal matrix.
+fn solve_system<const N: usize>(
+    mut ata: [[f64; N]; N],
+    rhs: [[f64; 2]; N],
+    weight: f64,
+    samples: &[Sample],
+    degree: usize,
+    residual: bool,
+) -> Option<(Fit, [[f64; N]; N])> {
     if weight.is_nan() || weight <= 0.0 {
         return None;
     }
@@ -107,27 +170,34 @@ pub(super) fn solve<const N: usize>(
     if !x.iter().all(|c| c.is_finite()) {
         return None;
     }
-    let mut sq = f64::NAN;
-    if residual {
-        sq = 0.0;
-        for s in samples {
-            let r = dot(&monomials::<N>(s.x, s.y), &x) - s.z;
-            sq += s.w * r * r;
-        }
-    }
     let mut coef = [0.0; 15];
     coef[..N].copy_from_slice(&x);
     let mut noise_coef = [0.0; 15];
     for (c, s) in noise_coef.iter_mut().zip(&solution) {
         *c = s[1];
     }
-    Some(Fit {
+    // With white noise of unit variance in the heights the expected weighted residual sum
+    // is `Σ w − Σ w² mᵀ M⁻¹ m` (M the normal matrix; `mᵀ M⁻¹ m = |L⁻¹ m|²`): the fit takes
+    // up part of the noise.
+    let (mut sq, mut noise_sq) = (f64::NAN, f64::NAN);
+    if residual {
+        (sq, noise_sq) = (0.0, weight);
+        for s in samples {
+            let m = monomials::<N>(s.x, s.y);
+            let r = dot(&m, &x) - s.z;
+            sq += s.w * r * r;
+            noise_sq -= s.w * s.w * forward_squared(&l, m);
+        }
+    }
+    let fit = Fit {
         coef,
         noise_coef,
         degree,
         residual: (sq / weight).sqrt(),
+        noise_residual: (noise_sq / weight).sqrt(),
         conditioning,
-    })
+    };
+    Some((fit, l))
 }
 
 /// The normal equations of the fit by the first `N` monomials: `Σ w m mᵀ` (`ata[j][i]` is
@@ -188,6 +258,19 @@ fn cholesky<const N: usize>(mut a: [[f64; N]; N]) -> Option<[[f64; N]; N]> {
     Some(a)
 }
 
+/// `|L⁻¹ m|²` for L from [`cholesky`] (`mᵀ (L Lᵀ)⁻¹ m`).
+fn forward_squared<const N: usize>(l: &[[f64; N]; N], mut m: [f64; N]) -> f64 {
+    let mut sum = 0.0;
+    for i in 0..N {
+        let y = m[i] / l[i][i];
+        sum += y * y;
+        for k in i + 1..N {
+            m[k] -= y * l[i][k];
+        }
+    }
+    sum
+}
+
 /// Solves `L Lᵀ x = b` for two right-hand sides (`b[i]` = row i of both), L from
 /// [`cholesky`]: forward substitution, then back substitution with `Lᵀ`.
 fn solve_factored<const N: usize>(l: &[[f64; N]; N], mut b: [[f64; 2]; N]) -> [[f64; 2]; N] {
@@ -233,6 +316,44 @@ fn dot_by(a: &[f64], b: impl Fn(usize) -> f64) -> f64 {
 }
 
 impl Fit {
+    /// `cubic + λ (quartic − cubic)`, λ in [0, 1]: coefficients, noise coefficients; the
+    /// quartic's residuals and conditioning. The cubic where the blend is not finite.
+    pub(super) fn blend(cubic: Fit, quartic: Fit, lambda: f64) -> Fit {
+        if lambda.is_nan() || lambda <= 0.0 {
+            return cubic;
+        }
+        if lambda >= 1.0 {
+            return quartic;
+        }
+        let mix = |a: &[f64; 15], b: &[f64; 15]| -> [f64; 15] {
+            std::array::from_fn(|i| a[i] + lambda * (b[i] - a[i]))
+        };
+        let fit = Fit {
+            coef: mix(&cubic.coef, &quartic.coef),
+            noise_coef: mix(&cubic.noise_coef, &quartic.noise_coef),
+            degree: 4,
+            residual: quartic.residual,
+            noise_residual: quartic.noise_residual,
+            conditioning: quartic.conditioning,
+        };
+        if fit
+            .coef
+            .iter()
+            .chain(&fit.noise_coef)
+            .all(|c| c.is_finite())
+        {
+            fit
+        } else {
+            cubic
+        }
+    }
+
+    /// The Hessians of the height (model units) of the fit and of its fit to the simulated
+    /// noise, as (h_xx, h_xy, h_yy), the coordinates having been divided by `r`.
+    pub(super) fn hessians(&self, r: f64) -> [[f64; 3]; 2] {
+        [&self.coef, &self.noise_coef].map(|c| [2.0 * c[3] / r, c[4] / r, 2.0 * c[5] / r])
+    }
+
     /// Curvatures, directions and extremalities at the origin of a fit in the frame of
     /// `normal`, the coordinates having been divided by `r`.
     pub(super) fn estimate(&self, normal: Vec3, r: f64) -> (VertexEstimate, [f64; 2]) {
@@ -303,16 +424,20 @@ mod tests {
         Some((x.into(), noise.into(), (sq / weight).sqrt()))
     }
 
-    /// Discs of pseudo-random samples (xorshift): full ones, and rows along a rim with a
-    /// nearly singular system, as on CAD strips.
-    fn discs() -> Vec<Vec<Sample>> {
-        let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = move || {
+    /// Pseudo-random numbers in [0, 1) (xorshift) from `seed`.
+    fn uniform(mut state: u64) -> impl FnMut() -> f64 {
+        move || {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        }
+    }
+
+    /// Discs of pseudo-random samples: full ones, and rows along a rim with a nearly
+    /// singular system, as on CAD strips.
+    fn discs() -> Vec<Vec<Sample>> {
+        let mut next = uniform(0x9E37_79B9_7F4A_7C15);
         (0..200)
             .map(|d| {
                 (0..20 + d % 70)
@@ -349,6 +474,63 @@ mod tests {
                 }
                 (fit, reference) => assert!(fit.is_none() && reference.is_none()),
             }
+        }
+    }
+
+    #[test]
+    fn nested_fits_are_the_single_fits() {
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for samples in discs() {
+            let (Some(cubic), Some(quartic)) = (
+                solve::<10>(&samples, 3, false),
+                solve::<15>(&samples, 4, false),
+            ) else {
+                continue;
+            };
+            let Nested {
+                cubic: nested_cubic,
+                quartic: nested_quartic,
+                extra_variance,
+            } = solve_nested(&samples).unwrap();
+            assert!(extra_variance >= 0.0);
+            assert_eq!(bits(&nested_cubic.coef), bits(&cubic.coef));
+            assert_eq!(bits(&nested_cubic.noise_coef), bits(&cubic.noise_coef));
+            assert_eq!(bits(&nested_quartic.coef), bits(&quartic.coef));
+            assert_eq!(bits(&nested_quartic.noise_coef), bits(&quartic.noise_coef));
+        }
+    }
+
+    #[test]
+    fn extra_variance_is_that_of_fits_to_white_noise() {
+        // Heights of pure noise (uniform, unit variance), refitted many times on full discs
+        // and on one-sided ones: the mean squared difference of the two Hessians.
+        let mut uniform = uniform(0x2545_F491_4F6C_DD1D);
+        for (d, mut samples) in discs().into_iter().enumerate().take(12) {
+            if d % 5 == 0 {
+                continue;
+            }
+            if d % 2 == 1 {
+                samples.retain(|s| s.x > -0.2);
+            }
+            let Some(expected) = solve_nested(&samples).map(|n| n.extra_variance) else {
+                continue;
+            };
+            let trials = 4000;
+            let mut sum = 0.0;
+            for _ in 0..trials {
+                for s in samples.iter_mut() {
+                    s.z = 3f64.sqrt() * (2.0 * uniform() - 1.0);
+                }
+                let c = solve::<10>(&samples, 3, false).unwrap().coef;
+                let q = solve::<15>(&samples, 4, false).unwrap().coef;
+                let h = [2.0 * (q[3] - c[3]), q[4] - c[4], 2.0 * (q[5] - c[5])];
+                sum += h[0] * h[0] + 2.0 * h[1] * h[1] + h[2] * h[2];
+            }
+            let measured = sum / trials as f64;
+            assert!(
+                (measured / expected - 1.0).abs() < 0.1,
+                "disc {d}: {measured} against {expected}"
+            );
         }
     }
 
