@@ -952,6 +952,36 @@ mod tests {
     }
 
     #[test]
+    fn noise_is_measured_with_its_standard_deviation() {
+        // A sphere with its vertices moved along the normal by uniform noise of standard
+        // deviation 0.1 spacings: the bare residual reads about three quarters of it (the
+        // fit takes up part of the noise), the residual over its degrees of freedom all of
+        // it. The sphere has no fourth-order terms for the quartic to win on: mostly cubic.
+        let sphere = shapes::icosphere(1.0, 5);
+        let spacing = sample_spacing(&sphere);
+        let positions = sphere
+            .positions()
+            .iter()
+            .enumerate()
+            .map(|(v, p)| {
+                let u = (splitmix64(v as u64) >> 11) as f64 / (1u64 << 53) as f64;
+                let q = p * (1.0 + 0.1 * spacing * 3f64.sqrt() * (2.0 * u - 1.0));
+                [q.x, q.y, q.z]
+            })
+            .collect();
+        let noisy = TriMesh::from_arrays(positions, sphere.faces().to_vec()).unwrap();
+        let (_, report) = jet_fit_report(&noisy, &JetFitOptions::DEFAULT).unwrap();
+        // Measured: sigma 0.0988, noise 0.0829, weight 0.027.
+        assert!((report.sigma - 0.1).abs() < 0.01, "sigma {}", report.sigma);
+        assert!(report.noise < 0.09, "noise {}", report.noise);
+        assert!(
+            report.quartic_weight < 0.5,
+            "weight {}",
+            report.quartic_weight
+        );
+    }
+
+    #[test]
     fn noise_radius_grows_only_with_noise() {
         assert_eq!(noise_radius(2.5, 0.0005), 2.5);
         assert!((noise_radius(2.5, 0.008) - 5.0).abs() < 1e-12);
