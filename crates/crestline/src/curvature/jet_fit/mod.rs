@@ -655,9 +655,10 @@ impl Context<'_> {
     }
 
     /// The estimate of vertex `v`; its fit's weighted RMS residual (model units) and the
-    /// noise level this implies (the residual over that of the fit to the simulated noise;
-    /// both NaN on a fallback and on triangle samples); the extremalities of its fit to the
-    /// simulated noise (0 on a fallback).
+    /// standard deviation of noise that would leave it (the residual over the one white
+    /// noise of unit deviation leaves, `Fit::noise_residual`; both NaN on a fallback and on
+    /// triangle samples); the extremalities of its fit to the simulated noise (0 on a
+    /// fallback).
     fn fit_vertex(
         &self,
         v: u32,
