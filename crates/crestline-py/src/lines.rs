@@ -155,7 +155,9 @@ impl Lines {
 
     /// Figures about the extraction, as `crestline extract --stats json` prints them
     /// (triangles, singular triangles per family, lines traced and kept, threshold, seconds
-    /// per stage); `None` for lines read from a file.
+    /// per stage; `jet_fit`: the sample spacing, the radius in spacings, the noise level and
+    /// its standard deviation in spacings and the quartic weight the fit chose, `None` for
+    /// the other estimators); `None` for lines read from a file.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         self.stats.as_ref().map(|s| stats_dict(py, s)).transpose()
@@ -196,6 +198,19 @@ fn stats_dict<'py>(py: Python<'py>, s: &ExtractStats) -> PyResult<Bound<'py, PyD
     d.set_item("threshold", s.threshold)?;
     d.set_item("threshold_auto", s.threshold_is_auto)?;
     d.set_item("gaps_jumped", s.gaps_jumped)?;
+    let jet_fit = match s.jet_fit {
+        Some(j) => {
+            let fit = PyDict::new(py);
+            fit.set_item("spacing", j.spacing)?;
+            fit.set_item("radius_spacings", j.radius)?;
+            fit.set_item("noise_spacings", j.noise)?;
+            fit.set_item("noise_sigma_spacings", j.sigma)?;
+            fit.set_item("quartic_weight", j.quartic_weight)?;
+            Some(fit)
+        }
+        None => None,
+    };
+    d.set_item("jet_fit", jet_fit)?;
     let seconds = PyDict::new(py);
     for (stage, time) in &s.stage_times {
         seconds.set_item(stage.name(), time.as_secs_f64())?;

@@ -75,6 +75,25 @@ def test_extract_matches_cli(cli, tmp_path, case, args):
         np.testing.assert_allclose(line.points, np.array(want["points"]).reshape(-1, 3), rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize("case", ["ring/reg5k", "bumpy/noisy20k", "ovoid/reg5k"])
+def test_jet_fit_figures_match_cli(cli, tmp_path, case):
+    # The radius, noise level and quartic weight the fit chose: a clean mesh, a noisy one,
+    # and a coarse one taken for noisy (quartic weight near 1).
+    path = case_path(case)
+    printed = subprocess.run(
+        [str(cli), "extract", str(path), "-o", str(tmp_path / "lines.obj"), "--stats=json", "-q"],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    expected = json.loads(printed)["jet_fit"]
+    got = crestline.extract(*crestline.read_mesh(path)).stats["jet_fit"]
+    assert got.keys() == expected.keys()
+    for key, value in expected.items():
+        assert got[key] == pytest.approx(value, rel=1e-12), key
+    assert 0.0 <= got["quartic_weight"] <= 1.0
+
+
 def test_written_files_match_cli(cli, tmp_path, fandisk):
     """`Lines.write` writes the bytes `crestline extract` writes, in every format."""
     vertices, faces = fandisk
