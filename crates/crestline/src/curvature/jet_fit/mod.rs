@@ -261,7 +261,7 @@ pub fn jet_fit_split(
     };
     let context = Context {
         options: &fit_options,
-        blend: blend.as_ref(),
+        blend,
         ..context
     };
     let (mut curvature, mut simulated) = context.run(radius);
@@ -429,7 +429,7 @@ struct Context<'a> {
     /// Per vertex, its neighbours and the edges to them.
     neighbours: &'a Neighbours,
     /// On noisy meshes: how the second fit blends cubic and quartic.
-    blend: Option<&'a Blend>,
+    blend: Option<Blend>,
 }
 
 /// The blend of cubic and quartic in the second fit on noisy meshes. Both fits are
@@ -543,12 +543,20 @@ fn next_stamp(marks: &mut Vec<u32>, stamp: &mut u32, n: usize) -> u32 {
 }
 
 impl Context<'_> {
+    /// The vertices the probes fit: those whose key ([`probe_keys`]) is a multiple of a
+    /// stride that leaves about [`PROBE_SAMPLES`] of them.
+    fn probe_vertices(&self) -> impl ParallelIterator<Item = u32> + '_ {
+        let n = self.mesh.num_vertices();
+        let stride = n.div_ceil(PROBE_SAMPLES).max(1) as u64;
+        (0..n as u32)
+            .into_par_iter()
+            .filter(move |&v| self.keys[v as usize] % stride == 0)
+    }
+
     /// The noise level of the surface: quartic fits with radius `radius` (in spacings) at up
     /// to 20,000 vertices spread over the mesh. A quartic's residual on a smooth surface is
     /// its truncation error, orders of magnitude below any noise a scanner leaves.
     fn probe_noise(&self, radius: f64) -> NoiseProbe {
-        let n = self.mesh.num_vertices();
-        let stride = n.div_ceil(PROBE_SAMPLES).max(1) as u64;
         let quartic = JetFitOptions {
             degree: 4,
             ..*self.options
@@ -558,9 +566,8 @@ impl Context<'_> {
             residual: true,
             ..*self
         };
-        let residuals: Vec<[f64; 2]> = (0..n as u32)
-            .into_par_iter()
-            .filter(|&v| self.keys[v as usize] % stride == 0)
+        let residuals: Vec<[f64; 2]> = self
+            .probe_vertices()
             .map(|v| {
                 SCRATCH.with(|s| {
                     probe
@@ -582,11 +589,8 @@ impl Context<'_> {
     /// `E|H₃ − H₄|² = b² + ΔV`, so the mean of `|H₃ − H₄|² − σ² ΔV` over the probe
     /// estimates b² (clamped at 0: no bias measured, cubics).
     fn cubic_bias(&self, radius: f64, sigma: f64) -> (f64, f64) {
-        let n = self.mesh.num_vertices();
-        let stride = n.div_ceil(PROBE_SAMPLES).max(1) as u64;
-        let probes: Vec<[f64; 3]> = (0..n as u32)
-            .into_par_iter()
-            .filter(|&v| self.keys[v as usize] % stride == 0)
+        let probes: Vec<[f64; 3]> = self
+            .probe_vertices()
             .filter_map(|v| {
                 SCRATCH.with(|s| self.fit_both(v, radius * self.spacing, &mut s.borrow_mut()))
             })
@@ -631,8 +635,7 @@ impl Context<'_> {
         if nested.quartic.conditioning < ILL_POSED {
             return None;
         }
-        let [h3, _] = nested.cubic.hessians(r);
-        let [h4, _] = nested.quartic.hessians(r);
+        let (h3, h4) = (nested.cubic.hessian(r), nested.quartic.hessian(r));
         let d = [h3[0] - h4[0], h3[1] - h4[1], h3[2] - h4[2]];
         let squared = d[0] * d[0] + 2.0 * d[1] * d[1] + d[2] * d[2];
         Some([squared, nested.extra_variance, r])
@@ -851,7 +854,7 @@ impl Context<'_> {
         normal: Vec3,
         r: f64,
         s: &mut Scratch,
-        blend: Option<&Blend>,
+        blend: Option<Blend>,
     ) -> Option<Fit> {
         self.frame_samples(p, normal, r, s);
         let count = s.samples.len();

@@ -348,10 +348,11 @@ impl Fit {
         }
     }
 
-    /// The Hessians of the height (model units) of the fit and of its fit to the simulated
-    /// noise, as (h_xx, h_xy, h_yy), the coordinates having been divided by `r`.
-    pub(super) fn hessians(&self, r: f64) -> [[f64; 3]; 2] {
-        [&self.coef, &self.noise_coef].map(|c| [2.0 * c[3] / r, c[4] / r, 2.0 * c[5] / r])
+    /// The Hessian of the height (model units) as (h_xx, h_xy, h_yy), the coordinates
+    /// having been divided by `r`.
+    pub(super) fn hessian(&self, r: f64) -> [f64; 3] {
+        let c = &self.coef;
+        [2.0 * c[3] / r, c[4] / r, 2.0 * c[5] / r]
     }
 
     /// Curvatures, directions and extremalities at the origin of a fit in the frame of
