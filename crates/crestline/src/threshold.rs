@@ -155,15 +155,18 @@ pub fn choose_threshold(values: &[f64], threshold: &Threshold, no_knee: f64) -> 
 /// Values above the threshold are the salient ones. Non-finite values (and, on the log
 /// scale, values `<= 0`) are ignored; fewer than 8 values have no knee.
 pub fn seek_threshold(values: &[f64], options: &KneeSearch) -> Option<f64> {
-    let mut s: Vec<f64> = match options.scale {
-        Scale::Linear => values.iter().copied().filter(|v| v.is_finite()).collect(),
-        Scale::Log => values
-            .iter()
-            .filter(|v| v.is_finite() && **v > 0.0)
-            .map(|v| v.ln())
-            .collect(),
+    let mut sorted: Vec<f64> = values
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite() && (options.scale == Scale::Linear || *v > 0.0))
+        .collect();
+    sorted.sort_unstable_by(f64::total_cmp);
+    // The values on the scale searched; the threshold is one of the values themselves (not
+    // `exp(ln v)`, which can round above v and drop the value at the knee).
+    let s: Vec<f64> = match options.scale {
+        Scale::Linear => sorted.clone(),
+        Scale::Log => sorted.iter().map(|v| v.ln()).collect(),
     };
-    s.sort_unstable_by(f64::total_cmp);
     let n = s.len();
     if n < 8 {
         return None;
@@ -193,7 +196,7 @@ pub fn seek_threshold(values: &[f64], options: &KneeSearch) -> Option<f64> {
         });
         match found {
             Some(i) => {
-                answer = Some(s[i - step]);
+                answer = Some(sorted[i - step]);
                 if step == 1 {
                     break;
                 }
@@ -204,10 +207,7 @@ pub fn seek_threshold(values: &[f64], options: &KneeSearch) -> Option<f64> {
             None => break,
         }
     }
-    match options.scale {
-        Scale::Linear => answer,
-        Scale::Log => answer.map(f64::exp),
-    }
+    answer
 }
 
 #[cfg(test)]
@@ -225,6 +225,24 @@ mod tests {
         assert!((1.08..2.05).contains(&t), "threshold {t}");
         let above = v.iter().filter(|&&x| x > t).count();
         assert!((95..=110).contains(&above), "{above} above");
+    }
+
+    #[test]
+    fn the_threshold_is_one_of_the_values() {
+        // Strengths on the log scale: the knee is the value where the steep part starts, so
+        // the line with that strength is kept. Returned as `exp(ln v)` it rounded above v for
+        // some v (3.061008 on the bumpy sphere, YBS) and that line was dropped.
+        for k in 0..200 {
+            let scale = 1.0 + k as f64 * 1.37e-3;
+            let v: Vec<f64> = [
+                1.19089, 1.45731, 1.77526, 3.06101, 8.25576, 8.29944, 17.7988, 17.8301,
+            ]
+            .iter()
+            .map(|x| x * scale)
+            .collect();
+            let t = seek_threshold(&v, &KneeSearch::for_strengths()).unwrap();
+            assert!(v.contains(&t), "threshold {t} is none of {v:?}");
+        }
     }
 
     #[test]

@@ -78,6 +78,14 @@ pub struct Curvature {
     /// extremalities, so that [`Curvature::extremality_noise`] follows them. Empty when
     /// `extremality_noise` is 0.
     pub simulated_noise: [Vec<f64>; 2],
+    /// Per vertex, `e_max` and `e_min` along the same directions by a second model of the
+    /// surface: the jet fit fits both the heights and the curved heights and keeps the
+    /// better ([`jet_fit`](mod@jet_fit), *Curved heights*); these are the other's. Where the
+    /// disc determines the fit the two agree; where it does not (rows of a CAD export's
+    /// strips) they can disagree in sign, and a zero of e that only one of them has is not
+    /// a crest ([`crate::lines::assemble::is_resolved`]). Smoothed with the extremalities.
+    /// Empty for the other estimators.
+    pub alternative_extremalities: [Vec<f64>; 2],
     /// What the jet fit measured and chose (sample spacing, radius, noise level); `None` for
     /// the other estimators.
     pub jet_fit: Option<JetFitReport>,
@@ -360,6 +368,7 @@ where
         fallback_vertices: 0,
         extremality_noise: 0.0,
         simulated_noise: Default::default(),
+        alternative_extremalities: Default::default(),
         jet_fit: None,
     };
     let mut fallback = vec![false; n];

@@ -286,6 +286,7 @@ mod tests {
                 e_other: &self.zero,
                 dirs: &self.dirs,
                 e_noise: 0.0,
+                e_alternative: &[],
             };
             jump_gaps(&self.mesh, &family, lines, options)
         }

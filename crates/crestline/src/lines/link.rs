@@ -572,6 +572,7 @@ mod tests {
             fallback_vertices: 0,
             extremality_noise: 0.0,
             simulated_noise: Default::default(),
+            alternative_extremalities: Default::default(),
             jet_fit: None,
         };
         let mut saliency = vec![0.1; n];

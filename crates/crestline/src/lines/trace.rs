@@ -54,6 +54,9 @@ pub struct Family<'a> {
     /// ([`Curvature::extremality_noise`]), taken out of the cyclideness of lines
     /// ([`super::assemble::debiased_cyclideness`]).
     pub e_noise: f64,
+    /// This family's extremality by a second model of the surface, per vertex
+    /// ([`Curvature::alternative_extremalities`]); empty when the estimator has one model.
+    pub e_alternative: &'a [f64],
 }
 
 impl<'a> Family<'a> {
@@ -68,6 +71,7 @@ impl<'a> Family<'a> {
                 e_other: &c.e_min,
                 dirs: &c.dir_max,
                 e_noise: c.extremality_noise,
+                e_alternative: &c.alternative_extremalities[0],
             },
             LineKind::Valley => Family {
                 kind,
@@ -77,6 +81,7 @@ impl<'a> Family<'a> {
                 e_other: &c.e_max,
                 dirs: &c.dir_min,
                 e_noise: c.extremality_noise,
+                e_alternative: &c.alternative_extremalities[1],
             },
         }
     }
@@ -245,6 +250,7 @@ mod tests {
             e_other: &zero,
             dirs: &dirs,
             e_noise: 0.0,
+            e_alternative: &[],
         };
         let t01 = fam.crossing(0, 1).unwrap();
         let t10 = fam.crossing(1, 0).unwrap();

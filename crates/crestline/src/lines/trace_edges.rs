@@ -148,6 +148,7 @@ mod tests {
                 e_other: &zero,
                 dirs: &dirs,
                 e_noise: 0.0,
+                e_alternative: &[],
             };
             let segs = trace_crest_edges(&m, &fam);
             assert_eq!(!segs.segments.is_empty(), expect, "sign {sign}");

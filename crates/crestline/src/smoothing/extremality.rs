@@ -213,6 +213,12 @@ fn run_steps(
     options: &ExtremalitySmoothing,
 ) -> Result<()> {
     smoother.steps(&mut curvature.e_max, &mut curvature.e_min, options.steps)?;
+    // The second model's extremalities lie along the same directions: smoothed alike, so
+    // that the crossings of the two are compared after the same steps.
+    if !curvature.alternative_extremalities[0].is_empty() {
+        let [a, b] = &mut curvature.alternative_extremalities;
+        smoother.steps(a, b, options.steps)?;
+    }
     if curvature.extremality_noise > 0.0 {
         let [mut a, mut b] = std::mem::take(&mut curvature.simulated_noise);
         smoother.steps(&mut a, &mut b, options.steps)?;
@@ -378,6 +384,7 @@ mod tests {
             fallback_vertices: 0,
             extremality_noise: 0.0,
             simulated_noise: Default::default(),
+            alternative_extremalities: Default::default(),
             jet_fit: None,
         };
         for (i, p) in mesh.positions().iter().enumerate() {

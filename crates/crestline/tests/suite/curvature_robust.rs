@@ -338,24 +338,31 @@ fn jet_fit_on_an_irregular_torus() {
 
 #[test]
 fn jet_fit_on_a_coarse_torus() {
-    // 30 samples around the tube, like `ring/reg5k` of the public cases: the noise probe's
-    // quartic leaves a truncation residual above the clean level, so the mesh is fitted as a
-    // noisy one, with a wider disc. Cubics there were 7.6% off in k (the fourth-order terms
-    // of a tube not much wider than the disc); the blend ([`JetFitOptions::degree`]) finds
-    // the cubic's bias far above the quartic's extra noise and fits quartics.
+    // 30 and 20 samples around the tube, like `ring/reg5k` of the public cases and coarser.
+    // The heights of a tube not much wider than the disc are a slowly converging series:
+    // the quartic's truncation residual was taken for noise (radius grown to 3.2 and 5.6
+    // spacings, the latter wider than the tube), and the fits were 1.4% and 35% off in k.
+    // The curved heights leave a smaller residual and fit the tube itself. Measured: k
+    // 6.7e-4 and 2.5e-3 of max |k|, e 5.2e-3 and 1.6e-2 of max k²; the first torus is taken
+    // for clean (noise 1.1e-4 spacings), the second still not (1.5e-3, radius 3.3).
     let (major, minor) = (1.0, 0.3);
-    let m = shapes::torus(major, minor, 100, 30);
-    let c = estimate(&m, &CurvatureOptions::DEFAULT).unwrap();
-    let report = c.jet_fit.unwrap();
-    assert!(report.noise > crestline::curvature::jet_fit::REFERENCE_NOISE);
-    let errors = exact::compare(&m, &c, |p| exact::torus(major, minor, p), |_| true, 0.0);
-    let k = errors.k_max.rms.max(errors.k_min.rms) * minor;
-    eprintln!(
-        "coarse torus: k {k:.2e} of max |k|, quartic weight {}",
-        report.quartic_weight
-    );
-    assert!(report.quartic_weight > 0.9);
-    assert!(k <= 0.03, "k RMS {k:.2e} of max |k|");
+    for (around, along, max_k, max_e) in [(100, 30, 0.003, 0.02), (64, 20, 0.01, 0.05)] {
+        let m = shapes::torus(major, minor, around, along);
+        let c = estimate(&m, &CurvatureOptions::DEFAULT).unwrap();
+        let report = c.jet_fit.unwrap();
+        let errors = exact::compare(&m, &c, |p| exact::torus(major, minor, p), |_| true, 0.0);
+        let k = errors.k_max.rms.max(errors.k_min.rms) * minor;
+        let e = errors.e_max.rms.max(errors.e_min.rms) * minor * minor;
+        eprintln!(
+            "{around} x {along} torus: k {k:.2e} of max |k|, e {e:.2e} of max k², noise {:.2e} spacings, radius {:.2}",
+            report.noise, report.radius
+        );
+        if along == 30 {
+            assert!(report.noise <= crestline::curvature::jet_fit::REFERENCE_NOISE);
+        }
+        assert!(k <= max_k, "k RMS {k:.2e} of max |k|");
+        assert!(e <= max_e, "e RMS {e:.2e} of max k²");
+    }
 }
 
 proptest::proptest! {
