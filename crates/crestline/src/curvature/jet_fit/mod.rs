@@ -93,8 +93,9 @@ pub struct JetFitOptions {
     pub radius: f64,
     /// Degree of the fitted polynomial: 3 (cubic) or 4 (quartic). The quartic's second and
     /// third derivatives are not biased by the fourth-order terms of the surface: on the
-    /// public clean cases of `../shared/quality` the worst RMS error of k is 0.8% of max |k|
-    /// with quartics and 7.7% with cubics (`bench/quality/run.sh`). Its five more
+    /// public clean cases of `../shared/quality` the worst RMS error of k is 0.3% of max |k|
+    /// with quartics and 1.7% with cubics (`bench/quality/run.sh`, with the curved heights of
+    /// the module docs; 0.8% and 7.7% without). Its five more
     /// coefficients carry more noise, though: when [`JetFitOptions::adapt_to_noise`] finds
     /// the surface noisy, 4 blends cubic and quartic by their expected errors, bias and
     /// noise together (measured on the mesh; see the module docs, *Degree*). 3 is cubic
