@@ -102,6 +102,13 @@ impl Curvature {
         self.k_max.is_empty()
     }
 
+    /// Whether [`Curvature::alternative_extremalities`] holds a second model: both fields, one
+    /// value per vertex.
+    pub fn has_alternative_extremalities(&self) -> bool {
+        let n = self.len();
+        n > 0 && self.alternative_extremalities.iter().all(|e| e.len() == n)
+    }
+
     /// Sets [`Curvature::simulated_noise`] and the noise level it implies: its median
     /// absolute value over both families divided by 0.6745 (the standard deviation, for
     /// normal noise), which one-sided fits at boundaries, whose noise is larger, do not sway.

@@ -421,6 +421,22 @@ mod tests {
         assert!(!with_alternative(-0.1, -1e-3));
         // A crossing the other way (e falling where the estimate's rises) is not this one.
         assert!(!with_alternative(0.1, -2.0));
+        // The same with the direction at b turned round: e and the second model's e at b
+        // change sign with it.
+        let mut turned = dirs.clone();
+        turned[b as usize] = -Vec3::x();
+        let mut e_turned = e.clone();
+        e_turned[b as usize] = -e[b as usize];
+        for (ea, eb, expected) in [(-0.1, 2.0, true), (0.1, 2.0, false), (0.1, -2.0, false)] {
+            let mut alternative = vec![0.0; 3];
+            alternative[a as usize] = ea;
+            alternative[b as usize] = -eb;
+            let fam = Family {
+                e_alternative: &alternative,
+                ..ridge_family(&k, &e_turned, &zero, &turned)
+            };
+            assert_eq!(is_resolved(&m, &fam, point, 2.0), expected, "{ea}, {eb}");
+        }
     }
 
     /// T counts only the part of a line that is a crest: along a strip of quads, e changes

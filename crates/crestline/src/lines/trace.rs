@@ -62,6 +62,13 @@ pub struct Family<'a> {
 impl<'a> Family<'a> {
     /// The max family (ridges) or the min family (valleys) of `c`.
     pub fn of(c: &'a Curvature, kind: LineKind) -> Self {
+        let alternative = |k: usize| -> &'a [f64] {
+            if c.has_alternative_extremalities() {
+                &c.alternative_extremalities[k]
+            } else {
+                &[]
+            }
+        };
         match kind {
             LineKind::Ridge => Family {
                 kind,
@@ -71,7 +78,7 @@ impl<'a> Family<'a> {
                 e_other: &c.e_min,
                 dirs: &c.dir_max,
                 e_noise: c.extremality_noise,
-                e_alternative: &c.alternative_extremalities[0],
+                e_alternative: alternative(0),
             },
             LineKind::Valley => Family {
                 kind,
@@ -81,7 +88,7 @@ impl<'a> Family<'a> {
                 e_other: &c.e_max,
                 dirs: &c.dir_min,
                 e_noise: c.extremality_noise,
-                e_alternative: &c.alternative_extremalities[1],
+                e_alternative: alternative(1),
             },
         }
     }

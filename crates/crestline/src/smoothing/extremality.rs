@@ -215,7 +215,7 @@ fn run_steps(
     smoother.steps(&mut curvature.e_max, &mut curvature.e_min, options.steps)?;
     // The second model's extremalities lie along the same directions: smoothed alike, so
     // that the crossings of the two are compared after the same steps.
-    if !curvature.alternative_extremalities[0].is_empty() {
+    if curvature.has_alternative_extremalities() {
         let [a, b] = &mut curvature.alternative_extremalities;
         smoother.steps(a, b, options.steps)?;
     }

@@ -681,7 +681,14 @@ impl Context<'_> {
         let results: Vec<VertexFit> = (0..n as u32)
             .into_par_iter()
             .map(|v| {
-                SCRATCH.with(|s| self.fit_vertex(v, radius * self.spacing, &mut s.borrow_mut()))
+                let mut fit = SCRATCH
+                    .with(|s| self.fit_vertex(v, radius * self.spacing, &mut s.borrow_mut()));
+                // A fallback (or a sanitised estimate) has no second model: its own e.
+                fit.estimate = fit.estimate.sanitized();
+                if fit.estimate.fallback || !fit.alternative.iter().all(|x| x.is_finite()) {
+                    fit.alternative = [fit.estimate.e_max, fit.estimate.e_min];
+                }
+                fit
             })
             .collect();
         let simulated = [0, 1].map(|k| results.iter().map(|r| r.noise[k]).collect());

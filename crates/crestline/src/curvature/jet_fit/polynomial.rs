@@ -366,7 +366,6 @@ impl Fit {
             .coef
             .iter()
             .chain(&fit.noise_coef)
-            .chain(&fit.square_coef)
             .all(|c| c.is_finite())
         {
             fit
@@ -734,6 +733,66 @@ mod tests {
         let t = [estimate.dir_max.dot(&u), estimate.dir_max.dot(&w)];
         assert_eq!(alternative, plain.extremalities(&plain.coef, t, r));
         assert!(alternative[0].abs().max(alternative[1].abs()) > 1e-4);
+    }
+
+    #[test]
+    fn curved_taylor_coefficients_are_those_of_the_heights() {
+        // z = f(P(x, y)) for cubic P with a gradient and both signs of c: the Taylor
+        // coefficients to the third order against central differences of z.
+        let mut next = uniform(0x51AB_1E5E_ED00_0001);
+        for bend in [0.7, -0.45, 1.3] {
+            let mut coef = [0.0; 15];
+            for c in coef.iter_mut().take(10) {
+                *c = 0.6 * (next() - 0.5);
+            }
+            coef[0] = 0.05;
+            let fit = Fit {
+                coef,
+                noise_coef: [0.0; 15],
+                square_coef: [0.0; 15],
+                degree: 4,
+                residual: f64::NAN,
+                noise_residual: f64::NAN,
+                conditioning: 1.0,
+            };
+            let taylor = fit.curved_taylor(bend).unwrap();
+            let z = |x: f64, y: f64| {
+                let m = monomials::<15>(x, y);
+                let p: f64 = m.iter().zip(&coef).map(|(a, b)| a * b).sum();
+                2.0 * p / (1.0 + (1.0 + 2.0 * bend * p).sqrt())
+            };
+            let h = 1e-3;
+            let dx = |f: &dyn Fn(f64, f64) -> f64, x: f64, y: f64| {
+                (f(x + h, y) - f(x - h, y)) / (2.0 * h)
+            };
+            let dy = |f: &dyn Fn(f64, f64) -> f64, x: f64, y: f64| {
+                (f(x, y + h) - f(x, y - h)) / (2.0 * h)
+            };
+            let zx = |x: f64, y: f64| dx(&z, x, y);
+            let zy = |x: f64, y: f64| dy(&z, x, y);
+            let zxx = |x: f64, y: f64| dx(&zx, x, y);
+            let zxy = |x: f64, y: f64| dy(&zx, x, y);
+            let zyy = |x: f64, y: f64| dy(&zy, x, y);
+            let expected = [
+                z(0.0, 0.0),
+                zx(0.0, 0.0),
+                zy(0.0, 0.0),
+                zxx(0.0, 0.0) / 2.0,
+                zxy(0.0, 0.0),
+                zyy(0.0, 0.0) / 2.0,
+                dx(&zxx, 0.0, 0.0) / 6.0,
+                dy(&zxx, 0.0, 0.0) / 2.0,
+                dx(&zyy, 0.0, 0.0) / 2.0,
+                dy(&zyy, 0.0, 0.0) / 6.0,
+            ];
+            for (k, e) in expected.iter().enumerate() {
+                assert!(
+                    (taylor[k] - e).abs() < 1e-4 * (1.0 + e.abs()),
+                    "c = {bend}, coefficient {k}: {} against {e}",
+                    taylor[k]
+                );
+            }
+        }
     }
 
     #[test]
