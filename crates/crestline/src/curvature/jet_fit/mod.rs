@@ -36,7 +36,7 @@
 //!    (`Fit::curved`). The other stays as a second model of the surface
 //!    ([`Curvature::alternative_extremalities`]): a crossing of e it does not have is not a
 //!    crest. Measured (`score_fields.py`, public cases, mean e RMS): 0.020 → 0.013, the
-//!    coarse torus `ring/reg5k` k 0.68% → 0.03% of max |k|, e 0.088 → 0.027.
+//!    coarse torus `ring/reg5k` k 0.68% → 0.06% of max |k|, e 0.088 → 0.025.
 //! 4. *Differential quantities* of the second fit's graph h at the origin: with n outward, a
 //!    convex surface has h ≈ −x²/(2ρ), so the Weingarten matrix is `W = −Hess h` (the metric
 //!    is the identity to second order where the gradient vanishes). Its eigen-pairs are the
@@ -685,7 +685,7 @@ impl Context<'_> {
                     .with(|s| self.fit_vertex(v, radius * self.spacing, &mut s.borrow_mut()));
                 // A fallback (or a sanitised estimate) has no second model: its own e.
                 fit.estimate = fit.estimate.sanitized();
-                if fit.estimate.fallback || !fit.alternative.iter().all(|x| x.is_finite()) {
+                if fit.estimate.fallback {
                     fit.alternative = [fit.estimate.e_max, fit.estimate.e_min];
                 }
                 fit
@@ -693,8 +693,7 @@ impl Context<'_> {
             .collect();
         let simulated = [0, 1].map(|k| results.iter().map(|r| r.noise[k]).collect());
         let alternative = [0, 1].map(|k| results.iter().map(|r| r.alternative[k]).collect());
-        let (curvature, _) =
-            collect_estimates(n, || (), |_, v| results[v as usize].estimate.sanitized());
+        let (curvature, _) = collect_estimates(n, || (), |_, v| results[v as usize].estimate);
         (curvature, simulated, alternative)
     }
 

@@ -416,7 +416,7 @@ impl Fit {
         let Some(coef) = self.curved_taylor(bend) else {
             return (self, None);
         };
-        let t: [f64; 15] = std::array::from_fn(|i| self.coef[i] + 0.5 * bend * self.square_coef[i]);
+        let t = self.curved_coefficients(bend);
         // The curved surface z = f(P) must reach over the whole disc: 1 + 2cP ≥ 0 at every
         // sample (else the disc is wider than the sphere it describes; the model fails).
         let (mut plain, mut curved, mut weight) = (0.0, 0.0, 0.0);
@@ -453,6 +453,12 @@ impl Fit {
         }
     }
 
+    /// The coefficients of the fit of the curved heights `z + (c/2) z²` (`c` = `bend`): by
+    /// linearity, the heights' plus c/2 times the squared heights'.
+    fn curved_coefficients(&self, bend: f64) -> [f64; 15] {
+        std::array::from_fn(|i| self.coef[i] + 0.5 * bend * self.square_coef[i])
+    }
+
     /// The Taylor coefficients at the origin, to the third order, of the heights
     /// `z = f(P) = 2P / (1 + √(1 + 2cP))` of the fit of the curved heights `P = z + (c/2) z²`
     /// (`c` = `bend`), by the chain rule; `None` where f is not defined at the origin or the
@@ -461,7 +467,7 @@ impl Fit {
         if !bend.is_finite() || bend == 0.0 {
             return None;
         }
-        let t: [f64; 15] = std::array::from_fn(|i| self.coef[i] + 0.5 * bend * self.square_coef[i]);
+        let t = self.curved_coefficients(bend);
         let q = 1.0 + 2.0 * bend * t[0];
         if q.is_nan() || q <= 0.0 {
             return None;
