@@ -11,7 +11,7 @@ use crestline::extract::{ExtractOptions, extract};
 use crestline::io::Format;
 use crestline::io::mask::read_diffusion_factors;
 use crestline::lines::FeatureLines;
-use crestline::mesh::{EdgeKind, VertexKind};
+use crestline::mesh::{EdgeKind, VertexKind, Weld};
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 
 /// The built-in example: the fandisk CAD part (see `data/README.md`).
@@ -41,25 +41,63 @@ impl From<FormatArg> for Format {
     }
 }
 
-/// `--keep-orientation`, shared by the commands that estimate curvature.
+/// `--keep-orientation` and `--no-weld`, shared by the commands that estimate curvature.
 #[derive(Debug, Clone, Copy, clap::Args)]
-pub struct OrientArgs {
+pub struct PrepareArgs {
     /// Keep the winding of the triangles as it is. By default closed components whose
     /// triangles face inward (negative volume) are reversed first, since curvature signs
     /// follow the normals: facing inward, ridges and valleys swap.
     #[arg(long)]
     pub keep_orientation: bool,
+    /// Keep vertices that share a position apart. By default vertices at exactly the same
+    /// position are made one first (patches exported side by side, seams split for texture
+    /// or normals): otherwise the surface ends at every such seam, and so do the fits and
+    /// the lines. Outputs per vertex then follow the welded mesh.
+    #[arg(long)]
+    pub no_weld: bool,
 }
 
-/// Says on stderr what of `mesh` the algorithms skip or treat specially (degenerate
-/// triangles dropped, unreferenced vertices, non-manifold edges), then reverses the closed
-/// components that face inward (unless `args` says to keep them) and says so. Every command
-/// that reads a mesh calls this: orientation is decided here for the whole CLI, by the
-/// library's [`crestline::mesh::orient_outward`] (which `extract` also runs by default).
-pub fn prepare_mesh(mesh: TriMesh, name: &str, args: OrientArgs) -> Result<TriMesh> {
+/// A mesh as the commands work on it ([`prepare_mesh`]).
+pub struct Prepared {
+    /// The mesh, welded and oriented.
+    pub mesh: TriMesh,
+    /// How the vertices read were welded into `mesh`'s ([`crestline::mesh::Weld`]).
+    pub weld: Weld,
+}
+
+/// Welds the vertices of `mesh` that share a position (unless `args.no_weld`) and says so,
+/// says on stderr what of it the algorithms skip or treat specially (degenerate triangles
+/// dropped, unreferenced vertices, non-manifold edges), then reverses the closed components
+/// that face inward (unless `args.keep_orientation`) and says so. Every command that reads a
+/// mesh calls this: welding and orientation are decided here for the whole CLI, by the
+/// library's [`crestline::mesh::weld_coincident`] and [`crestline::mesh::orient_outward`]
+/// (which `extract` also runs by default).
+pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<TriMesh> {
+    Ok(prepare_mesh_mapped(mesh, name, args)?.mesh)
+}
+
+/// [`prepare_mesh`], with the map from the vertices read to the mesh's.
+pub fn prepare_mesh_mapped(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prepared> {
+    let (mesh, weld) = if args.no_weld {
+        let weld = Weld::identity(mesh.num_vertices());
+        (mesh, weld)
+    } else {
+        let boundary = mesh.topology().count_edges(EdgeKind::Boundary);
+        let (welded, weld) = crestline::mesh::weld_coincident(mesh)?;
+        if weld.merged > 0 {
+            eprintln!(
+                "{name}: welded {} vertices that shared their position with another ({} -> {} \
+                 boundary edges; --no-weld to keep them apart)",
+                weld.merged,
+                boundary,
+                welded.topology().count_edges(EdgeKind::Boundary)
+            );
+        }
+        (welded, weld)
+    };
     note_awkward_parts(&mesh, name);
     if args.keep_orientation {
-        return Ok(mesh);
+        return Ok(Prepared { mesh, weld });
     }
     let (mesh, report) = crestline::mesh::orient_outward(mesh)?;
     if report.inward > 0 {
@@ -69,7 +107,7 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: OrientArgs) -> Result<TriMe
             report.inward, report.closed, report.inward_faces
         );
     }
-    Ok(mesh)
+    Ok(Prepared { mesh, weld })
 }
 
 /// One line on stderr listing the parts of `mesh` that are skipped or handled specially,
@@ -128,13 +166,13 @@ impl MeshArgs {
 }
 
 /// The mesh of a command that estimates curvature (`curvature`, `distance`, `simplify`): the
-/// file, and whether to keep its winding.
+/// file, and whether to keep its winding and its coincident vertices apart.
 #[derive(Debug, Clone, clap::Args)]
 pub struct OrientedMeshArgs {
     #[command(flatten)]
     pub mesh: MeshArgs,
     #[command(flatten)]
-    pub orient: OrientArgs,
+    pub prepare: PrepareArgs,
 }
 
 impl OrientedMeshArgs {
@@ -143,11 +181,11 @@ impl OrientedMeshArgs {
         self.mesh.mesh.as_deref()
     }
 
-    /// Reads the mesh (with a spinner) and prepares it ([`prepare_mesh`]): oriented outward
-    /// unless `--keep-orientation`.
+    /// Reads the mesh (with a spinner) and prepares it ([`prepare_mesh`]): welded unless
+    /// `--no-weld`, oriented outward unless `--keep-orientation`.
     pub fn load(&self) -> Result<(TriMesh, String)> {
         let (mesh, name) = crate::progress::step("reading", || self.mesh.load())?;
-        Ok((prepare_mesh(mesh, &name, self.orient)?, name))
+        Ok((prepare_mesh(mesh, &name, self.prepare)?, name))
     }
 }
 
@@ -246,16 +284,24 @@ fn parse_stdin(bytes: &[u8], format: Option<FormatArg>, why: &str) -> Result<(Tr
 }
 
 /// The per-vertex diffusion factors of the extremality smoothing: `--mask`'s file (one
-/// number per vertex) scaled inside the `--mask-sphere` / `--mask-box` `regions`
+/// number per vertex of the file, carried over to the prepared mesh by `weld`, see
+/// [`Prepared::weld`]) scaled inside the `--mask-sphere` / `--mask-box` `regions`
 /// ([`DiffusionMask::apply`]); `None` when neither is given.
 pub fn diffusion_factors(
     file: Option<&Path>,
     regions: Vec<MaskRegion>,
     mesh: &TriMesh,
+    weld: &Weld,
 ) -> Result<Option<Vec<f64>>> {
-    let factors = file
-        .map(|path| read_diffusion_factors(path, mesh.num_vertices()))
-        .transpose()?;
+    // Vertices welded into one take the factor of the first of them.
+    let factors = match file {
+        Some(path) => {
+            let read = read_diffusion_factors(path, weld.map.len())?;
+            let welded = weld.to_welded(&read);
+            Some(welded.with_context(|| format!("{}: not one factor per vertex", path.display()))?)
+        }
+        None => None,
+    };
     Ok(DiffusionMask { regions }.apply(mesh, factors))
 }
 

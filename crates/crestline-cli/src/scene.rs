@@ -12,7 +12,7 @@ use crestline::lines::FeatureLines;
 use crestline::render::{ColorMapChoice, FieldRange, RenderOptions, UpAxis, guess_up_axis};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
-use crate::input::{MeshArgs, OrientArgs, prepare_mesh, read_lines};
+use crate::input::{MeshArgs, PrepareArgs, prepare_mesh, read_lines};
 use crate::progress::{self, note};
 
 /// Per-vertex fields that can colour the mesh.
@@ -119,7 +119,7 @@ pub struct SceneArgs {
     #[command(flatten)]
     pub input: MeshArgs,
     #[command(flatten)]
-    pub orient: OrientArgs,
+    pub prepare: PrepareArgs,
     /// Feature lines to draw, as `crestline extract` writes them: OBJ, PLY or JSON, chosen
     /// by the extension.
     #[arg(long, value_name = "LINES.{obj,ply,json}")]
@@ -173,7 +173,7 @@ impl SceneArgs {
     /// Loads the mesh (oriented as for every command) and the lines and computes the field.
     pub fn load(&self) -> Result<Scene> {
         let (mesh, name) = progress::step("reading", || self.input.load())?;
-        let mesh = prepare_mesh(mesh, &name, self.orient)?;
+        let mesh = prepare_mesh(mesh, &name, self.prepare)?;
         let lines = match &self.lines {
             Some(path) => Some(read_lines(path)?),
             None => None,

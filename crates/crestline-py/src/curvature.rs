@@ -8,7 +8,7 @@ use pyo3::types::PyDict;
 use crate::arrays::vectors_array;
 use crate::error::{choose, to_py_err};
 use crate::extract::ESTIMATORS;
-use crate::mesh::mesh_from_arrays;
+use crate::mesh::{mesh_from_arrays, per_given_vertex};
 
 /// Principal curvatures, directions and extremalities of every vertex of the mesh
 /// `(vertices, faces)` (array-likes as for `extract`).
@@ -18,7 +18,7 @@ use crate::mesh::mesh_from_arrays;
 /// `radius`, the jet fit's disc radius in sample spacings (default 2.5); `degree`, the jet
 /// fit's polynomial degree (3 or 4, default 4; 4 lets the fit choose on noisy meshes);
 /// `no_noise_adaptation`, keep the jet fit's radius fixed on noisy meshes;
-/// `keep_orientation`, as for `extract`.
+/// `keep_orientation` and `no_weld`, as for `extract`.
 ///
 /// Returns a dict of numpy arrays indexed like the vertices: "k_max", "k_min", "e_max",
 /// "e_min" (n,) and "dir_max", "dir_min", "normals" (n, 3). Signs: a sphere of radius r
@@ -26,7 +26,7 @@ use crate::mesh::mesh_from_arrays;
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, estimator = "jet-fit", *, rings = None, radius = None, degree = None,
-    no_noise_adaptation = false, keep_orientation = false,
+    no_noise_adaptation = false, keep_orientation = false, no_weld = false,
 ))]
 pub fn curvature<'py>(
     py: Python<'py>,
@@ -38,8 +38,9 @@ pub fn curvature<'py>(
     degree: Option<usize>,
     no_noise_adaptation: bool,
     keep_orientation: bool,
+    no_weld: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mesh = mesh_from_arrays(vertices, faces, keep_orientation)?;
+    let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
     let mut options =
         CurvatureOptions::default().with_estimator(choose("estimator", estimator, &ESTIMATORS)?);
     options.cubic_fit.rings = rings.unwrap_or(options.cubic_fit.rings);
@@ -55,6 +56,7 @@ pub fn curvature<'py>(
         ("e_max", c.e_max),
         ("e_min", c.e_min),
     ] {
+        let values = per_given_vertex(&weld, &values)?;
         fields.set_item(name, PyArray1::from_vec(py, values))?;
     }
     for (name, vectors) in [
@@ -62,7 +64,7 @@ pub fn curvature<'py>(
         ("dir_min", &c.dir_min),
         ("normals", &c.normals),
     ] {
-        fields.set_item(name, vectors_array(py, vectors)?)?;
+        fields.set_item(name, vectors_array(py, &per_given_vertex(&weld, vectors)?)?)?;
     }
     Ok(fields)
 }

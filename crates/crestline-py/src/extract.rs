@@ -2,6 +2,7 @@
 
 use crestline::curvature::Estimator;
 use crestline::extract::{ExtractOptions, Method, Pipeline, extract as run_extract};
+use crestline::mesh::Weld;
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 use crestline::smoothing::surface::SurfaceSmoothing;
 use crestline::threshold::Threshold;
@@ -45,6 +46,9 @@ use crate::mesh::mesh_from_arrays;
 /// - `no_gaps`: turn off YBS's gap jumping.
 /// - `keep_orientation`: keep the triangles' winding. By default closed components facing
 ///   inward are reversed first (curvature signs follow the normals).
+/// - `no_weld`: keep vertices at the same position apart. By default they are made one first
+///   (patches exported side by side, seams split for texture or normals), as the
+///   command-line tool does: otherwise the surface, its fits and its lines end at every seam.
 ///
 /// Returns a `Lines`. Raises `ValueError` for bad arrays (shape, NaN, index out of range)
 /// or options.
@@ -54,7 +58,7 @@ use crate::mesh::mesh_from_arrays;
     smooth_steps = None, smooth_time = None, crease_angle = None, direction_support = None,
     fair = None, pre_smooth = None, estimator = None, radius = None, rings = None,
     mask = None, mask_spheres = None, mask_boxes = None, no_gaps = false,
-    keep_orientation = false,
+    keep_orientation = false, no_weld = false,
 ))]
 pub fn extract(
     py: Python<'_>,
@@ -77,8 +81,9 @@ pub fn extract(
     mask_boxes: Option<Vec<[f64; 7]>>,
     no_gaps: bool,
     keep_orientation: bool,
+    no_weld: bool,
 ) -> PyResult<Lines> {
-    let mesh = mesh_from_arrays(vertices, faces, keep_orientation)?;
+    let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
     let mut options = ExtractOptions::for_method(choose("method", method, &METHODS)?);
     // `mesh_from_arrays` has oriented the mesh already, unless `keep_orientation`.
     options.orient_outward = false;
@@ -117,6 +122,7 @@ pub fn extract(
     }
     options.smoothing.diffusion = diffusion(
         &mesh,
+        &weld,
         mask,
         &mask_spheres.unwrap_or_default(),
         &mask_boxes.unwrap_or_default(),
@@ -172,12 +178,19 @@ fn apply_threshold(
 /// Per-vertex diffusion factors: `mask`, scaled inside the spheres and boxes.
 fn diffusion(
     mesh: &TriMesh,
+    weld: &Weld,
     mask: Option<&Bound<'_, PyAny>>,
     spheres: &[[f64; 5]],
     boxes: &[[f64; 7]],
 ) -> PyResult<Option<Vec<f64>>> {
+    // One factor per vertex of the arrays; vertices welded into one take the first's.
     let factors = mask
-        .map(|m| per_vertex(m, mesh.num_vertices(), "mask"))
+        .map(|m| per_vertex(m, weld.map.len(), "mask"))
+        .transpose()?
+        .map(|given| {
+            weld.to_welded(&given)
+                .ok_or_else(|| invalid("mask must have one value per vertex"))
+        })
         .transpose()?;
     let spheres = spheres
         .iter()

@@ -4,6 +4,8 @@ use std::path::PathBuf;
 
 use crestline::TriMesh;
 use crestline::io::Format;
+use crestline::mesh::Weld;
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 
 use crate::arrays::{MeshArrays, points_array, positions, triangles, triangles_array};
@@ -37,9 +39,11 @@ pub fn read_mesh<'py>(
     Ok((points_array(py, data.positions)?, faces))
 }
 
-/// The mesh of `vertices` and `faces` (array-likes), its closed components turned outward
-/// unless `keep_orientation`. The arrays are read with the GIL held; the mesh is built
-/// without it.
+/// The mesh of `vertices` and `faces` (array-likes), its vertices at one position welded
+/// unless `no_weld` ([`crestline::mesh::weld_coincident`], as the command-line tool does) and
+/// its closed components turned outward unless `keep_orientation`; with the weld, which
+/// carries values per vertex between the arrays and the mesh. The arrays are read with the
+/// GIL held; the mesh is built without it.
 ///
 /// # Errors
 /// `ValueError` for arrays of the wrong shape or type, non-finite coordinates and indices
@@ -48,18 +52,35 @@ pub fn mesh_from_arrays(
     vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
     keep_orientation: bool,
-) -> PyResult<TriMesh> {
+    no_weld: bool,
+) -> PyResult<(TriMesh, Weld)> {
     let points = positions(vertices, "vertices")?;
     let triangles = triangles(faces, "faces")?;
     vertices
         .py()
         .detach(|| {
             let mesh = TriMesh::new(points, triangles)?;
-            if keep_orientation {
-                Ok(mesh)
+            let (mesh, weld) = if no_weld {
+                let weld = Weld::identity(mesh.num_vertices());
+                (mesh, weld)
             } else {
-                crestline::mesh::orient_outward(mesh).map(|(mesh, _)| mesh)
+                crestline::mesh::weld_coincident(mesh)?
+            };
+            if keep_orientation {
+                Ok((mesh, weld))
+            } else {
+                crestline::mesh::orient_outward(mesh).map(|(mesh, _)| (mesh, weld))
             }
         })
         .map_err(to_py_err)
+}
+
+/// Values per vertex of the mesh built by [`mesh_from_arrays`], one per vertex of the arrays.
+///
+/// # Errors
+/// `RuntimeError` unless there is one value per vertex of the mesh (a bug, not an input).
+pub fn per_given_vertex<T: Copy>(weld: &Weld, values: &[T]) -> PyResult<Vec<T>> {
+    weld.to_given(values).ok_or_else(|| {
+        PyRuntimeError::new_err("internal error: not one value per vertex of the welded mesh")
+    })
 }

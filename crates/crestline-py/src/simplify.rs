@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use crate::arrays::{MeshArrays, triangles_array, vectors_array};
 use crate::error::{invalid, to_py_err};
 use crate::lines::Lines;
-use crate::mesh::mesh_from_arrays;
+use crate::mesh::{mesh_from_arrays, per_given_vertex};
 
 /// Simplifies the mesh `(vertices, faces)` by quadric-error edge collapse, keeping it dense
 /// near the feature lines (YBS 2005, eq. 7).
@@ -27,7 +27,7 @@ use crate::mesh::mesh_from_arrays;
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, lines = None, *, ratio = None, target_faces = None, eta = None,
-    eps = None, keep_orientation = false,
+    eps = None, keep_orientation = false, no_weld = false,
 ))]
 pub fn simplify<'py>(
     py: Python<'py>,
@@ -39,6 +39,7 @@ pub fn simplify<'py>(
     eta: Option<f64>,
     eps: Option<f64>,
     keep_orientation: bool,
+    no_weld: bool,
 ) -> PyResult<MeshArrays<'py>> {
     let mut options = SimplifyOptions::default();
     options.target = match (ratio, target_faces) {
@@ -49,7 +50,7 @@ pub fn simplify<'py>(
     };
     options.eta = eta.unwrap_or(options.eta);
     options.eps = eps.unwrap_or(options.eps);
-    let mesh = mesh_from_arrays(vertices, faces, keep_orientation)?;
+    let (mesh, _) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
     let given = lines.as_ref().map(|l| l.get().feature_lines());
     let simplified = py
         .detach(|| {
@@ -79,7 +80,9 @@ pub fn simplify<'py>(
 /// of also across triangles. Returns an (n,) float64 array; vertices no line reaches (other
 /// components, unreferenced vertices) get `inf`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, lines = None, *, edges_only = false, keep_orientation = false))]
+#[pyo3(signature = (
+    vertices, faces, lines = None, *, edges_only = false, keep_orientation = false, no_weld = false,
+))]
 pub fn feature_distance<'py>(
     py: Python<'py>,
     vertices: &Bound<'py, PyAny>,
@@ -87,8 +90,9 @@ pub fn feature_distance<'py>(
     lines: Option<Bound<'py, Lines>>,
     edges_only: bool,
     keep_orientation: bool,
+    no_weld: bool,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let mesh = mesh_from_arrays(vertices, faces, keep_orientation)?;
+    let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
     let given = lines.as_ref().map(|l| l.get().feature_lines());
     let options = DistanceOptions::default().with_relax_across_triangles(!edges_only);
     let distance = py
@@ -104,7 +108,10 @@ pub fn feature_distance<'py>(
             run_feature_distance(&mesh, lines, &options)
         })
         .map_err(to_py_err)?;
-    Ok(PyArray1::from_vec(py, distance.vertex))
+    Ok(PyArray1::from_vec(
+        py,
+        per_given_vertex(&weld, &distance.vertex)?,
+    ))
 }
 
 /// The lines `simplify` and `feature_distance` use when none are given.

@@ -156,3 +156,42 @@ def test_keep_orientation_reaches_the_library(tmp_path):
         k.replace("valley", "ridge") for k in outward.kinds
     ]
     assert kept.kinds != outward.kinds
+
+
+def in_two_pieces(vertices, faces):
+    """The mesh as two patches side by side (x < 0 and x >= 0 by the triangles' centres), each
+    with its own copies of the vertices along the seam, as parametric models are exported."""
+    pieces_vertices, pieces_faces, offset = [], [], 0
+    side = vertices[faces].mean(axis=1)[:, 0] >= 0
+    for piece in (faces[~side], faces[side]):
+        used, local = np.unique(piece, return_inverse=True)
+        pieces_vertices.append(vertices[used])
+        pieces_faces.append(local.reshape(piece.shape) + offset)
+        offset += len(used)
+    return np.vstack(pieces_vertices), np.vstack(pieces_faces)
+
+
+def test_pieces_side_by_side_are_welded():
+    """Patches exported side by side give the lines and the curvature of the joined surface,
+    per vertex given; with no_weld the seam cuts the surface."""
+    vertices, faces = crestline.read_mesh(case_path("ovoid/reg5k"))
+    pieces = in_two_pieces(vertices, faces)
+    seam = len(pieces[0]) - len(vertices)
+    assert seam > 20
+    joined = crestline.extract(vertices, faces)
+    welded = crestline.extract(*pieces)
+    assert welded.kinds == joined.kinds
+    assert welded.total_length == pytest.approx(joined.total_length, rel=1e-3)
+    # Unwelded, the crest line ends at the seam on both sides (the mask is per vertex given).
+    apart = crestline.extract(*pieces, no_weld=True, mask=np.ones(len(pieces[0])))
+    assert len(apart) > len(joined)
+    fields = crestline.curvature(*pieces)
+    exact = crestline.curvature(vertices, faces)
+    assert fields["k_max"].shape == (len(pieces[0]),)
+    # Every copy of a vertex has the values of the vertex of the joined mesh at its place.
+    where = {tuple(p): i for i, p in enumerate(vertices)}
+    at = np.array([where[tuple(p)] for p in pieces[0]])
+    np.testing.assert_allclose(fields["k_max"], exact["k_max"][at], rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(fields["dir_max"].shape, (len(pieces[0]), 3))
+    distance = crestline.feature_distance(*pieces, welded)
+    assert distance.shape == (len(pieces[0]),) and np.isfinite(distance).all()

@@ -22,7 +22,9 @@ use indicatif::ProgressBar;
 
 use super::batch;
 use super::curvature::EstimatorArgs;
-use crate::input::{FormatArg, OrientArgs, diffusion_factors, is_dash, load_mesh, prepare_mesh};
+use crate::input::{
+    FormatArg, PrepareArgs, Prepared, diffusion_factors, is_dash, load_mesh, prepare_mesh_mapped,
+};
 use crate::output::{display, refuse_overwriting_inputs, to_stdout};
 use crate::progress::{self, note};
 use crate::scene::{UpArg, UpArgs, WireframeArgs, resolve_up};
@@ -68,7 +70,7 @@ pub struct Args {
     /// terminal, and the built-in example is used when it is.
     pub meshes: Vec<PathBuf>,
     #[command(flatten)]
-    pub orient: OrientArgs,
+    pub prepare: PrepareArgs,
     /// Output: a file, `-` for standard output, or a folder (an existing one, or a path
     /// ending in `/`; a batch always writes to a folder, created if needed). Default:
     /// `<mesh name>-lines.<format>` in the current folder.
@@ -173,11 +175,11 @@ pub fn run(args: Args) -> Result<()> {
     }
     let clock = Instant::now();
     let (mesh, name) = progress::step("reading", || load_mesh(input, args.input_format))?;
-    let mesh = prepare_mesh(mesh, &name, args.orient)?;
+    let Prepared { mesh, weld } = prepare_mesh_mapped(mesh, &name, args.prepare)?;
     let load = clock.elapsed();
     let mut options = options_from_args(&args)?;
     options.smoothing.diffusion =
-        diffusion_factors(args.mask.as_deref(), mask_regions(&args), &mesh)?;
+        diffusion_factors(args.mask.as_deref(), mask_regions(&args), &mesh, &weld)?;
     let extraction = run_with_progress(&mesh, &options, progress::quiet())?;
 
     let format = lines_format(&args, &output);

@@ -11,3 +11,4 @@ mod orientation;
 mod render_cli;
 mod simplify;
 mod subdivide;
+mod weld;

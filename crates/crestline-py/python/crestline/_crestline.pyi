@@ -102,6 +102,7 @@ def extract(
     mask_boxes: Optional[Sequence[Tuple[float, float, float, float, float, float, float]]] = None,
     no_gaps: bool = False,
     keep_orientation: bool = False,
+    no_weld: bool = False,
 ) -> Lines:
     """Finds the ridges and valleys of the mesh (vertices, faces).
 
@@ -122,6 +123,8 @@ def extract(
     - mask, mask_spheres, mask_boxes: per-vertex diffusion factors and regions scaling them.
     - no_gaps: turn off YBS's gap jumping.
     - keep_orientation: keep the winding (default: closed components facing inward are reversed).
+    - no_weld: keep vertices at the same position apart (default: they are made one first, as
+      ``crestline extract`` does; the mask still has one value per vertex given).
 
     Raises ValueError for bad arrays (shape, NaN, index out of range) or options.
     """
@@ -136,8 +139,12 @@ def curvature(
     degree: Optional[int] = None,
     no_noise_adaptation: bool = False,
     keep_orientation: bool = False,
+    no_weld: bool = False,
 ) -> dict[str, npt.NDArray[np.float64]]:
     """Per-vertex curvature: "k_max", "k_min", "e_max", "e_min" (n,), "dir_max", "dir_min", "normals" (n, 3).
+
+    One row per vertex given; vertices at the same position are estimated as one (welded)
+    unless no_weld.
 
     Defaults as ``crestline curvature``: rings 1, radius 2.5, degree 3.
     """
@@ -152,6 +159,7 @@ def simplify(
     eta: Optional[float] = None,
     eps: Optional[float] = None,
     keep_orientation: bool = False,
+    no_weld: bool = False,
 ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Feature-guided QEM simplification (YBS eq. 7): ratio 0.1, eta 1, eps 0.1 by default.
 
@@ -165,6 +173,7 @@ def feature_distance(
     *,
     edges_only: bool = False,
     keep_orientation: bool = False,
+    no_weld: bool = False,
 ) -> npt.NDArray[np.float64]:
     """Geodesic distance from every vertex to the nearest line (inf where none is reached)."""
 

@@ -4,8 +4,9 @@
 //! <https://en.wikipedia.org/wiki/STL_(file_format)>.
 //!
 //! STL stores each triangle with its own three corners, so the reader welds corners whose
-//! positions are bitwise equal into one vertex (no tolerance: a tolerance would merge
-//! features that are merely close). Stored facet normals are ignored.
+//! positions are bitwise equal (+0 = −0) into one vertex (no tolerance: a tolerance would
+//! merge features that are merely close; see [`crate::mesh::weld_coincident`], which does the
+//! same for the other formats). Stored facet normals are ignored.
 //!
 //! Telling the two encodings apart: a binary file is an 80-byte header, a little-endian u32
 //! triangle count n and n 50-byte records, so its size is exactly 84 + 50·n. Many binary
@@ -21,14 +22,13 @@
 //!
 //! Writing emits binary STL; positions are rounded to `f32`, so it is the one lossy format.
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 use std::io::Write;
 
 use super::text::{Lines, Source, Tokens, coordinate, show};
 use super::{MeshData, push_fan};
 use crate::error::{Error, Result};
-use crate::mesh::TriMesh;
+use crate::mesh::weld::PositionMap;
+use crate::mesh::{TriMesh, Vec3};
 
 const HEADER_BYTES: usize = 80;
 const PREAMBLE_BYTES: usize = HEADER_BYTES + 4;
@@ -192,55 +192,29 @@ fn parse_ascii(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
     })
 }
 
-/// Gives one index to each distinct position (bitwise), in order of first appearance.
+/// Gives one index to each distinct position (bitwise, +0 = −0), in order of first
+/// appearance ([`PositionMap`]).
 struct Welder {
-    index_of: HashMap<(u64, u64, u64), u32, BuildHasherDefault<WeldHasher>>,
+    index_of: PositionMap,
     positions: Vec<[f64; 3]>,
 }
 
 impl Welder {
     fn with_capacity(n: usize) -> Self {
         Welder {
-            index_of: HashMap::with_capacity_and_hasher(n, Default::default()),
+            index_of: PositionMap::with_capacity(n),
             positions: Vec::with_capacity(n),
         }
     }
 
     #[inline]
     fn index(&mut self, p: [f64; 3]) -> u32 {
-        let key = (p[0].to_bits(), p[1].to_bits(), p[2].to_bits());
         let next = self.positions.len() as u32;
-        let index = *self.index_of.entry(key).or_insert(next);
+        let index = self.index_of.index_or(Vec3::from(p), next);
         if index == next {
             self.positions.push(p);
         }
         index
-    }
-}
-
-/// A fast multiplicative hasher for the welding keys: std's default SipHash guards against
-/// adversarial keys, which costs more than the whole parse here and buys nothing (a hostile
-/// file can only slow its own loading down).
-#[derive(Default)]
-struct WeldHasher(u64);
-
-impl Hasher for WeldHasher {
-    #[inline]
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(u64::from(b));
-        }
-    }
-
-    #[inline]
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(23) ^ x).wrapping_mul(0x9e37_79b9_7f4a_7c15);
-    }
-
-    #[inline]
-    fn finish(&self) -> u64 {
-        // Fold the well-mixed high bits down: hashbrown takes its bucket from the low bits.
-        self.0 ^ (self.0 >> 29)
     }
 }
 
@@ -341,9 +315,14 @@ mod tests {
     }
 
     #[test]
-    fn welding_is_bitwise() {
+    fn welding_is_bitwise_but_for_the_sign_of_zero() {
+        // −0 is the same place as +0 (mirrored halves write it on the mirror plane).
         let mut t = SQUARE;
         t[1][0] = [-0.0, 0.0, 0.0];
+        let m = parse_bytes(&binary(b"", &t)).unwrap();
+        assert_eq!(m.positions.len(), 4);
+        // One unit in the last place of single precision apart is another place.
+        t[1][0] = [f32::from_bits(1), 0.0, 0.0];
         let m = parse_bytes(&binary(b"", &t)).unwrap();
         assert_eq!(m.positions.len(), 5);
     }

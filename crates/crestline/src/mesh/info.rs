@@ -15,6 +15,9 @@ pub struct MeshInfo {
     pub edges: usize,
     /// Vertices no face uses.
     pub unreferenced_vertices: usize,
+    /// Used vertices at bitwise the position of an earlier used vertex: pieces exported side
+    /// by side (see [`super::weld_coincident`], which merges them).
+    pub coincident_vertices: usize,
     /// Triangles dropped for a repeated index or zero area.
     pub degenerate_faces: usize,
     /// Edges with one face.
@@ -62,6 +65,7 @@ impl MeshInfo {
             faces: mesh.num_faces(),
             edges: topo.num_edges(),
             unreferenced_vertices: unreferenced,
+            coincident_vertices: super::coincident_vertices(mesh),
             degenerate_faces: mesh.degenerate_faces(),
             boundary_edges,
             boundary_loops: topo.boundary_loops(mesh.faces()),
@@ -86,6 +90,7 @@ impl std::fmt::Display for MeshInfo {
         writeln!(f, "faces                  {}", self.faces)?;
         writeln!(f, "edges                  {}", self.edges)?;
         writeln!(f, "unreferenced vertices  {}", self.unreferenced_vertices)?;
+        writeln!(f, "coincident vertices    {}", self.coincident_vertices)?;
         writeln!(
             f,
             "degenerate faces       {} (dropped)",

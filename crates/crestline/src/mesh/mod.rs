@@ -17,6 +17,7 @@ mod orient;
 mod sides;
 mod subdivide;
 mod topology;
+pub(crate) mod weld;
 
 pub use geometry::{
     BoundingBox, face_areas, face_normal_and_area, face_normals, mean_edge_length, star_areas,
@@ -28,6 +29,7 @@ pub(crate) use sides::corner_angle;
 pub use sides::{SIDE_TIE, widest_side};
 pub use subdivide::{SubdivideOptions, loop_subdivide};
 pub use topology::{EdgeKind, Topology, VertexKind};
+pub use weld::{Weld, coincident_vertices, weld_coincident};
 
 use std::sync::Arc;
 

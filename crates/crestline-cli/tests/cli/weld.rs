@@ -1,0 +1,113 @@
+//! Pieces side by side: every command welds vertices that share a position before anything
+//! else, so a surface exported as separate patches (here: every triangle with its own
+//! corners, as STL stores it, written as OFF) gives the lines of the joined surface.
+
+// Test code: stopping loudly on the first surprise is the point.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::ffi::OsStr;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::common::{crestline_ok, s, stderr};
+
+use crestline::shapes;
+
+/// Writes the ellipsoid x²/9 + y²/4 + z² = 1 as OFF, joined or as a soup of triangles.
+fn write_ellipsoid(path: &Path, soup: bool) {
+    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
+    let points: Vec<_> = if soup {
+        mesh.faces()
+            .iter()
+            .flat_map(|t| t.map(|v| mesh.position(v)))
+            .collect()
+    } else {
+        mesh.positions().to_vec()
+    };
+    let mut off = format!("OFF\n{} {} 0\n", points.len(), mesh.num_faces());
+    for p in &points {
+        writeln!(off, "{:?} {:?} {:?}", p.x, p.y, p.z).unwrap();
+    }
+    for (f, [a, b, c]) in mesh.faces().iter().enumerate() {
+        let [a, b, c] = if soup {
+            [3 * f, 3 * f + 1, 3 * f + 2]
+        } else {
+            [*a as usize, *b as usize, *c as usize]
+        };
+        writeln!(off, "3 {a} {b} {c}").unwrap();
+    }
+    std::fs::write(path, off).unwrap();
+}
+
+/// Runs `crestline extract` with `extra` arguments; returns the stats and stderr.
+fn extract(mesh: &Path, extra: &[&str]) -> (serde_json::Value, String) {
+    let output = mesh.with_extension("lines.obj");
+    let mut args: Vec<&OsStr> = vec!["extract".as_ref(), mesh.as_ref(), "-o".as_ref()];
+    args.push(output.as_ref());
+    args.push("--stats=json".as_ref());
+    args.extend(extra.iter().map(OsStr::new));
+    let out = crestline_ok(args);
+    (serde_json::from_slice(&out.stdout).unwrap(), stderr(&out))
+}
+
+#[test]
+fn a_triangle_soup_gives_the_lines_of_the_joined_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    let (joined, soup) = (dir.path().join("joined.off"), dir.path().join("soup.off"));
+    write_ellipsoid(&joined, false);
+    write_ellipsoid(&soup, true);
+    let (expected, _) = extract(&joined, &[]);
+    assert!(expected["ridges"].as_u64().unwrap() >= 1, "{expected}");
+    let (welded, note) = extract(&soup, &[]);
+    assert!(
+        note.contains("welded") && note.contains("--no-weld"),
+        "no note on stderr: {note}"
+    );
+    assert_eq!(welded["ridges"], expected["ridges"]);
+    assert_eq!(welded["valleys"], expected["valleys"]);
+    let (a, b) = (
+        welded["total_length"].as_f64().unwrap(),
+        expected["total_length"].as_f64().unwrap(),
+    );
+    assert!((a - b).abs() <= 1e-3 * b, "{a} against {b}");
+    // Kept apart, every triangle is a surface of its own: no disc to fit, no line.
+    let (apart, note) = extract(&soup, &["--no-weld"]);
+    assert_eq!(apart["lines"], 0, "{apart}");
+    assert!(!note.contains("welded"), "{note}");
+}
+
+#[test]
+fn a_mask_has_one_factor_per_vertex_of_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let soup = dir.path().join("soup.off");
+    write_ellipsoid(&soup, true);
+    let text = std::fs::read_to_string(&soup).unwrap();
+    let vertices: usize = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let mask = dir.path().join("mask.txt");
+    std::fs::write(&mask, "1\n".repeat(vertices)).unwrap();
+    let (stats, _) = extract(&soup, &["--mask", s(&mask)]);
+    assert!(stats["ridges"].as_u64().unwrap() >= 1, "{stats}");
+}
+
+#[test]
+fn info_counts_coincident_vertices() {
+    let dir = tempfile::tempdir().unwrap();
+    let soup = dir.path().join("soup.off");
+    write_ellipsoid(&soup, true);
+    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
+    let out = crestline_ok(["info", s(&soup)]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let expected = 3 * mesh.num_faces() - mesh.num_vertices();
+    assert!(
+        text.contains(&format!("coincident vertices    {expected}\n")),
+        "{text}"
+    );
+}
