@@ -52,54 +52,97 @@ pub struct PrepareArgs {
     /// Keep vertices that share a position apart. By default vertices at exactly the same
     /// position are made one first (patches exported side by side, seams split for texture
     /// or normals): otherwise the surface ends at every such seam, and so do the fits and
-    /// the lines. Outputs per vertex then follow the welded mesh.
+    /// the lines. Fields written per vertex keep one row per vertex of the file either way,
+    /// and pictures draw the triangles as read.
     #[arg(long)]
     pub no_weld: bool,
 }
 
 /// A mesh as the commands work on it ([`prepare_mesh`]).
 pub struct Prepared {
-    /// The mesh, welded and oriented.
+    /// The mesh, welded and oriented: what the algorithms run on.
     pub mesh: TriMesh,
     /// How the vertices read were welded into `mesh`'s ([`crestline::mesh::Weld`]).
     pub weld: Weld,
+    /// The mesh as read, oriented but not welded, when welding changed it.
+    given: Option<TriMesh>,
+}
+
+impl Prepared {
+    /// The mesh that outputs per vertex and pictures follow: as read (oriented, not welded),
+    /// so that a row of a field is a vertex of the file and hard edges that the file split on
+    /// purpose stay hard in a picture.
+    pub fn given_mesh(&self) -> &TriMesh {
+        self.given.as_ref().unwrap_or(&self.mesh)
+    }
+
+    /// The mesh of [`Prepared::given_mesh`], taken out.
+    pub fn into_given(self) -> TriMesh {
+        self.given.unwrap_or(self.mesh)
+    }
+
+    /// Values per vertex of [`Prepared::mesh`] as values per vertex of
+    /// [`Prepared::given_mesh`] (each copy of a welded vertex gets its value).
+    pub fn per_given_vertex<T: Copy>(&self, values: Vec<T>) -> Result<Vec<T>> {
+        if self.given.is_none() {
+            return Ok(values);
+        }
+        self.weld
+            .to_given(&values)
+            .context("internal error: not one value per vertex of the welded mesh")
+    }
 }
 
 /// Welds the vertices of `mesh` that share a position (unless `args.no_weld`) and says so,
 /// says on stderr what of it the algorithms skip or treat specially (degenerate triangles
 /// dropped, unreferenced vertices, non-manifold edges), then reverses the closed components
-/// that face inward (unless `args.keep_orientation`) and says so. Every command that reads a
-/// mesh calls this: welding and orientation are decided here for the whole CLI, by the
+/// that face inward (unless `args.keep_orientation`) and says so. Every command that
+/// estimates curvature or draws calls this (`info` reports the mesh as read; `subdivide`
+/// refines it as read): welding and orientation are decided here for the whole CLI, by the
 /// library's [`crestline::mesh::weld_coincident`] and [`crestline::mesh::orient_outward`]
 /// (which `extract` also runs by default).
-pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<TriMesh> {
-    Ok(prepare_mesh_mapped(mesh, name, args)?.mesh)
-}
-
-/// [`prepare_mesh`], with the map from the vertices read to the mesh's.
-pub fn prepare_mesh_mapped(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prepared> {
-    let (mesh, weld) = if args.no_weld {
+pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prepared> {
+    let (mesh, weld, given) = if args.no_weld {
         let weld = Weld::identity(mesh.num_vertices());
-        (mesh, weld)
+        (mesh, weld, None)
     } else {
+        // A copy of the mesh as read (positions; the connectivity is shared), kept only when
+        // welding changes it.
+        let given = mesh.clone();
         let boundary = mesh.topology().count_edges(EdgeKind::Boundary);
         let (welded, weld) = crestline::mesh::weld_coincident(mesh)?;
         if weld.merged > 0 {
+            let after = welded.topology().count_edges(EdgeKind::Boundary);
+            let mut also = String::new();
+            if after != boundary {
+                also += &format!("{boundary} -> {after} boundary edges; ");
+            }
+            if weld.duplicate_faces > 0 {
+                also += &format!(
+                    "dropped {} triangles that then repeated others, as the two sides of a \
+                     double-sided export do; ",
+                    weld.duplicate_faces
+                );
+            }
             eprintln!(
-                "{name}: welded {} vertices that shared their position with another ({} -> {} \
-                 boundary edges; --no-weld to keep them apart)",
-                weld.merged,
-                boundary,
-                welded.topology().count_edges(EdgeKind::Boundary)
+                "{name}: welded {} vertices that shared their position with another \
+                 ({also}--no-weld to keep them apart)",
+                weld.merged
             );
         }
-        (welded, weld)
+        let given = (weld.merged > 0).then_some(given);
+        (welded, weld, given)
     };
     note_awkward_parts(&mesh, name);
     if args.keep_orientation {
-        return Ok(Prepared { mesh, weld });
+        return Ok(Prepared { mesh, weld, given });
     }
     let (mesh, report) = crestline::mesh::orient_outward(mesh)?;
+    // The mesh as read, turned alike (its components are those of the welded mesh or parts
+    // of them, so this says nothing new).
+    let given = given
+        .map(|given| crestline::mesh::orient_outward(given).map(|(given, _)| given))
+        .transpose()?;
     if report.inward > 0 {
         eprintln!(
             "{name}: {} of {} closed components faced inward ({} triangles); reversed them so that \
@@ -107,7 +150,7 @@ pub fn prepare_mesh_mapped(mesh: TriMesh, name: &str, args: PrepareArgs) -> Resu
             report.inward, report.closed, report.inward_faces
         );
     }
-    Ok(Prepared { mesh, weld })
+    Ok(Prepared { mesh, weld, given })
 }
 
 /// One line on stderr listing the parts of `mesh` that are skipped or handled specially,
@@ -184,6 +227,12 @@ impl OrientedMeshArgs {
     /// Reads the mesh (with a spinner) and prepares it ([`prepare_mesh`]): welded unless
     /// `--no-weld`, oriented outward unless `--keep-orientation`.
     pub fn load(&self) -> Result<(TriMesh, String)> {
+        let (prepared, name) = self.load_prepared()?;
+        Ok((prepared.mesh, name))
+    }
+
+    /// [`OrientedMeshArgs::load`], keeping the mesh as read for outputs per vertex.
+    pub fn load_prepared(&self) -> Result<(Prepared, String)> {
         let (mesh, name) = crate::progress::step("reading", || self.mesh.load())?;
         Ok((prepare_mesh(mesh, &name, self.prepare)?, name))
     }
@@ -293,11 +342,11 @@ pub fn diffusion_factors(
     mesh: &TriMesh,
     weld: &Weld,
 ) -> Result<Option<Vec<f64>>> {
-    // Vertices welded into one take the factor of the first of them.
+    // Vertices welded into one take the least of their factors (the most protective).
     let factors = match file {
         Some(path) => {
             let read = read_diffusion_factors(path, weld.map.len())?;
-            let welded = weld.to_welded(&read);
+            let welded = weld.to_welded(&read, f64::min);
             Some(welded.with_context(|| format!("{}: not one factor per vertex", path.display()))?)
         }
         None => None,

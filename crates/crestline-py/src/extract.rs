@@ -183,12 +183,12 @@ fn diffusion(
     spheres: &[[f64; 5]],
     boxes: &[[f64; 7]],
 ) -> PyResult<Option<Vec<f64>>> {
-    // One factor per vertex of the arrays; vertices welded into one take the first's.
+    // One factor per vertex of the arrays; vertices welded into one take the least of theirs.
     let factors = mask
         .map(|m| per_vertex(m, weld.map.len(), "mask"))
         .transpose()?
         .map(|given| {
-            weld.to_welded(&given)
+            weld.to_welded(&given, f64::min)
                 .ok_or_else(|| invalid("mask must have one value per vertex"))
         })
         .transpose()?;

@@ -51,8 +51,8 @@ pub fn render<'py>(
     legend_title: Option<String>,
     wireframe: bool,
 ) -> PyResult<Option<Bound<'py, PyBytes>>> {
-    // The picture shows the mesh as given (neither welded nor turned: a field is one value
-    // per vertex given), as `crestline render` does.
+    // The picture shows the mesh as given, neither welded nor turned (a field is one value
+    // per vertex given).
     let (mesh, _) = mesh_from_arrays(vertices, faces, true, true)?;
     let field = field
         .map(|f| per_vertex(f, mesh.num_vertices(), "field"))

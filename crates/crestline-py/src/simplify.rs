@@ -21,7 +21,8 @@ use crate::mesh::{mesh_from_arrays, per_given_vertex};
 /// method (as `crestline simplify` does), unless `eta` is 0. `ratio`: keep this fraction of
 /// the triangles, in (0, 1] (default 0.1); `target_faces`: keep this many instead (the
 /// command line's `--faces`). `eta`: influence of the lines, 0 for plain QEM (default 1);
-/// `eps`: the regularisation epsilon of eq. 7 (default 0.1).
+/// `eps`: the regularisation epsilon of eq. 7 (default 0.1). `keep_orientation` and `no_weld`
+/// as for `extract` (by default vertices at one position are made one first).
 ///
 /// Returns `(vertices, faces)` of the simplified mesh as float64 and int64 arrays.
 #[pyfunction]
@@ -77,8 +78,10 @@ pub fn simplify<'py>(
 /// (extracted with the default method when not given, as `crestline distance` does).
 ///
 /// `edges_only`: propagate along edges only (plain Dijkstra, which overestimates) instead
-/// of also across triangles. Returns an (n,) float64 array; vertices no line reaches (other
-/// components, unreferenced vertices) get `inf`.
+/// of also across triangles. `keep_orientation` and `no_weld` as for `extract` (vertices at
+/// one position are one by default; each copy gets its distance). Returns an (n,) float64
+/// array, one value per vertex given; vertices no line reaches (other components,
+/// unreferenced vertices) get `inf`.
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, lines = None, *, edges_only = false, keep_orientation = false, no_weld = false,

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use super::extract::{
     Args, IoTimes, StatsFormat, default_output, lines_format, mask_regions, options_from_args,
 };
-use crate::input::{Prepared, diffusion_factors, is_dash, load_mesh, prepare_mesh_mapped};
+use crate::input::{Prepared, diffusion_factors, is_dash, load_mesh, prepare_mesh};
 use crate::progress;
 
 /// What became of one mesh.
@@ -136,7 +136,7 @@ fn refuse_collisions(inputs: &[PathBuf], outputs: &[PathBuf]) -> Result<()> {
 fn extract_one(input: &Path, output: &Path, args: &Args) -> Result<serde_json::Value> {
     let clock = Instant::now();
     let (mesh, name) = load_mesh(Some(input), args.input_format)?;
-    let Prepared { mesh, weld } = prepare_mesh_mapped(mesh, &name, args.prepare)?;
+    let Prepared { mesh, weld, .. } = prepare_mesh(mesh, &name, args.prepare)?;
     let load = clock.elapsed();
     let mut options = options_from_args(args)?;
     options.smoothing.diffusion = diffusion_factors(None, mask_regions(args), &mesh, &weld)?;

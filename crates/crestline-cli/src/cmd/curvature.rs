@@ -187,13 +187,14 @@ pub fn run(args: Args) -> Result<()> {
     let options = curvature_options(&args)?;
     let estimator = options.estimator;
     refuse_overwriting_inputs(&args.output, &[args.input.path()])?;
-    let (mesh, name) = args.input.load()?;
+    let (prepared, name) = args.input.load_prepared()?;
+    let mesh = &prepared.mesh;
     // The papers' estimators read one star or ring and do not split at creases.
     let angle = match estimator {
         Estimator::JetFit => args.creases.unwrap_or_default(),
         _ => CreaseAngle::Off,
     };
-    let creases = find_creases(&mesh, &CreaseOptions::DEFAULT.with_angle(angle))?;
+    let creases = find_creases(mesh, &CreaseOptions::DEFAULT.with_angle(angle))?;
     if !creases.is_empty() {
         let edges = creases.edges.iter().filter(|&&c| c).count();
         note!(
@@ -204,14 +205,20 @@ pub fn run(args: Args) -> Result<()> {
     }
     let split = (!creases.is_empty()).then_some(&creases.edges[..]);
     let spinner = progress::spinner(format!("curvature of {} vertices", mesh.num_vertices()));
-    let curvature = estimate_split(&mesh, &options, split)?;
+    let curvature = estimate_split(mesh, &options, split)?;
     let mut cols = columns(&curvature);
     if args.saliency {
-        let s = mesh_saliency(&mesh, &curvature, &SaliencyOptions::default())?;
+        let s = mesh_saliency(mesh, &curvature, &SaliencyOptions::default())?;
         cols.push(("curv", s.curv));
         cols.push(("saliency", s.saliency));
     }
     spinner.finish_and_clear();
+    // One row per vertex of the file: each copy of a welded vertex gets its values.
+    let cols = cols
+        .into_iter()
+        .map(|(n, values)| Ok((n, prepared.per_given_vertex(values)?)))
+        .collect::<Result<Vec<_>>>()?;
+    let mesh = prepared.given_mesh();
 
     if args.csv {
         let write_csv = |out: &mut dyn Write| -> std::io::Result<()> {
@@ -231,7 +238,7 @@ pub fn run(args: Args) -> Result<()> {
         };
         to_path_or_stdout(&args.output, write_csv)?;
     } else {
-        let mut writer = PlyWriter::new(&mesh)
+        let mut writer = PlyWriter::new(mesh)
             .encoding(args.ply.encoding())
             .comment(format!("crestline curvature ({estimator:?}) of {name}"));
         for (n, values) in &cols {

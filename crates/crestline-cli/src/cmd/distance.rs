@@ -40,11 +40,12 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     refuse_overwriting_inputs(&args.output, &[args.input.path(), args.lines.path()])?;
-    let (mesh, name) = args.input.load()?;
-    let lines = progress::step("feature lines", || load_lines(args.lines.path(), &mesh))?;
+    let (prepared, name) = args.input.load_prepared()?;
+    let mesh = &prepared.mesh;
+    let lines = progress::step("feature lines", || load_lines(args.lines.path(), mesh))?;
     let options = DistanceOptions::default().with_relax_across_triangles(!args.edges_only);
     let distance = progress::step("distance to the lines", || {
-        feature_distance(&mesh, &lines, &options)
+        feature_distance(mesh, &lines, &options)
     })?;
     // PLY readers handle infinities poorly; "as far as anything gets" is also how the
     // simplification weights read an unreached vertex.
@@ -53,7 +54,9 @@ pub fn run(args: Args) -> Result<()> {
         .iter()
         .map(|&d| if d.is_finite() { d } else { distance.max })
         .collect();
-    let writer = PlyWriter::new(&mesh)
+    // One value per vertex of the file: each copy of a welded vertex gets its value.
+    let values = prepared.per_given_vertex(values)?;
+    let writer = PlyWriter::new(prepared.given_mesh())
         .encoding(args.ply.encoding())
         .comment(format!("feature_distance to {} lines", lines.lines.len()))
         .property(VertexProperty::new("feature_distance", values))?;

@@ -22,9 +22,7 @@ use indicatif::ProgressBar;
 
 use super::batch;
 use super::curvature::EstimatorArgs;
-use crate::input::{
-    FormatArg, PrepareArgs, Prepared, diffusion_factors, is_dash, load_mesh, prepare_mesh_mapped,
-};
+use crate::input::{FormatArg, PrepareArgs, diffusion_factors, is_dash, load_mesh, prepare_mesh};
 use crate::output::{display, refuse_overwriting_inputs, to_stdout};
 use crate::progress::{self, note};
 use crate::scene::{UpArg, UpArgs, WireframeArgs, resolve_up};
@@ -175,12 +173,17 @@ pub fn run(args: Args) -> Result<()> {
     }
     let clock = Instant::now();
     let (mesh, name) = progress::step("reading", || load_mesh(input, args.input_format))?;
-    let Prepared { mesh, weld } = prepare_mesh_mapped(mesh, &name, args.prepare)?;
+    let prepared = prepare_mesh(mesh, &name, args.prepare)?;
+    let mesh = &prepared.mesh;
     let load = clock.elapsed();
     let mut options = options_from_args(&args)?;
-    options.smoothing.diffusion =
-        diffusion_factors(args.mask.as_deref(), mask_regions(&args), &mesh, &weld)?;
-    let extraction = run_with_progress(&mesh, &options, progress::quiet())?;
+    options.smoothing.diffusion = diffusion_factors(
+        args.mask.as_deref(),
+        mask_regions(&args),
+        mesh,
+        &prepared.weld,
+    )?;
+    let extraction = run_with_progress(mesh, &options, progress::quiet())?;
 
     let format = lines_format(&args, &output);
     let clock = Instant::now();
@@ -208,8 +211,10 @@ pub fn run(args: Args) -> Result<()> {
 
     let mut picture_options =
         crestline::render::RenderOptions::default().with_wireframe(args.wireframe.wireframe);
+    // Pictures show the mesh as read: hard edges the file split on purpose stay hard.
+    let drawn = prepared.given_mesh();
     if args.png.is_some() || args.svg.is_some() || args.html.is_some() {
-        picture_options.up = resolve_up(args.up.axis(), &mesh);
+        picture_options.up = resolve_up(args.up.axis(), drawn);
     }
     for (path, write) in [
         (&args.png, crestline::render::write_png as PictureWriter),
@@ -217,7 +222,7 @@ pub fn run(args: Args) -> Result<()> {
         (&args.html, crestline::render::write_html),
     ] {
         if let Some(path) = path {
-            write(path, &mesh, Some(&extraction.lines), None, &picture_options)?;
+            write(path, drawn, Some(&extraction.lines), None, &picture_options)?;
             note!("wrote {}", path.display());
         }
     }
@@ -226,10 +231,10 @@ pub fn run(args: Args) -> Result<()> {
         print_summary(&name, &output, &extraction.stats, &options);
     }
     match args.stats {
-        Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, &mesh, &io)),
+        Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, mesh, &io)),
         Some(StatsFormat::Json) => println!(
             "{}",
-            serde_json::to_string_pretty(&stats_json(&extraction, &mesh, &io))?
+            serde_json::to_string_pretty(&stats_json(&extraction, mesh, &io))?
         ),
         None => {}
     }

@@ -111,3 +111,75 @@ fn info_counts_coincident_vertices() {
         "{text}"
     );
 }
+
+#[test]
+fn fields_keep_one_row_per_vertex_of_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (joined, soup) = (dir.path().join("joined.off"), dir.path().join("soup.off"));
+    write_ellipsoid(&joined, false);
+    write_ellipsoid(&soup, true);
+    let rows = |mesh: &Path| -> Vec<Vec<f64>> {
+        let csv = mesh.with_extension("csv");
+        crestline_ok(["curvature", s(mesh), "-o", s(&csv), "--csv", "-q"]);
+        let text = std::fs::read_to_string(&csv).unwrap();
+        text.lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect()
+    };
+    let (soup_rows, joined_rows) = (rows(&soup), rows(&joined));
+    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
+    assert_eq!(soup_rows.len(), 3 * mesh.num_faces());
+    // Each corner's row is the row of the joined mesh's vertex at its place.
+    for (corner, row) in soup_rows.iter().enumerate() {
+        let v = mesh.faces()[corner / 3][corner % 3] as usize;
+        let expected = &joined_rows[v];
+        assert_eq!(row[..3], expected[..3]);
+        for (a, b) in row.iter().zip(expected).skip(3) {
+            assert!(
+                (a - b).abs() <= 1e-9 * (1.0 + b.abs()),
+                "{row:?} against {expected:?}"
+            );
+        }
+    }
+    // The picture draws the soup as read, its field per vertex of the file.
+    let png = dir.path().join("soup.png");
+    crestline_ok(["render", s(&soup), "--field", "k-max", "-o", s(&png), "-q"]);
+    assert!(std::fs::metadata(&png).unwrap().len() > 1000);
+}
+
+#[test]
+fn the_two_sides_of_a_double_sided_export_become_one_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    let (joined, double) = (dir.path().join("joined.off"), dir.path().join("double.off"));
+    write_ellipsoid(&joined, false);
+    // Every triangle twice, the second copy wound the other way and with its own vertices.
+    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
+    let n = mesh.num_vertices();
+    let mut off = format!("OFF\n{} {} 0\n", 2 * n, 2 * mesh.num_faces());
+    for p in mesh.positions().iter().chain(mesh.positions()) {
+        writeln!(off, "{:?} {:?} {:?}", p.x, p.y, p.z).unwrap();
+    }
+    for [a, b, c] in mesh.faces() {
+        writeln!(off, "3 {a} {b} {c}").unwrap();
+    }
+    for [a, b, c] in mesh.faces() {
+        writeln!(
+            off,
+            "3 {} {} {}",
+            *a as usize + n,
+            *c as usize + n,
+            *b as usize + n
+        )
+        .unwrap();
+    }
+    std::fs::write(&double, off).unwrap();
+    let (expected, _) = extract(&joined, &[]);
+    let (welded, note) = extract(&double, &[]);
+    assert!(
+        note.contains(&format!("dropped {} triangles", mesh.num_faces())),
+        "{note}"
+    );
+    assert_eq!(welded["ridges"], expected["ridges"]);
+    assert_eq!(welded["valleys"], expected["valleys"]);
+}

@@ -163,6 +163,8 @@ def simplify(
 ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Feature-guided QEM simplification (YBS eq. 7): ratio 0.1, eta 1, eps 0.1 by default.
 
+    Vertices at one position are made one first unless no_weld.
+
     Without ``lines`` they are extracted with the default method (unless eta is 0).
     """
 
@@ -175,7 +177,10 @@ def feature_distance(
     keep_orientation: bool = False,
     no_weld: bool = False,
 ) -> npt.NDArray[np.float64]:
-    """Geodesic distance from every vertex to the nearest line (inf where none is reached)."""
+    """Geodesic distance from every vertex given to the nearest line (inf where none is reached).
+
+    Vertices at one position are made one first unless no_weld; each copy gets its distance.
+    """
 
 def render(
     vertices: npt.ArrayLike,
@@ -203,4 +208,5 @@ def render(
     the whole range, or ``(min, max)``), up axis
     guessed from the mesh ("auto": "z" when it stands on a flat base along Z, else "y"), no
     wireframe (``wireframe=True`` draws the mesh's edges, hidden ones hidden; PNG and SVG).
+    The mesh is drawn as given (neither welded nor turned); ``field`` has one value per vertex.
     """

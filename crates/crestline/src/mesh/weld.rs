@@ -25,9 +25,14 @@ use super::{TriMesh, Vec3};
 pub struct Weld {
     /// Vertices (used by a triangle) merged into another one at the same position.
     pub merged: usize,
+    /// Triangles dropped because, welded, they had the corners of an earlier triangle (either
+    /// winding): the two sides of a double-sided export, a piece stored twice.
+    pub duplicate_faces: usize,
     /// Per vertex of the mesh given, its index in the welded mesh (the identity when nothing
     /// was merged).
     pub map: Vec<u32>,
+    /// Vertices of the welded mesh.
+    pub vertices: usize,
 }
 
 impl Weld {
@@ -35,21 +40,23 @@ impl Weld {
     pub fn identity(vertices: usize) -> Self {
         Weld {
             merged: 0,
+            duplicate_faces: 0,
             map: (0..vertices as u32).collect(),
+            vertices,
         }
     }
 
-    /// Values per vertex of the mesh given, carried to the welded mesh: each welded vertex
-    /// takes the value of the first vertex merged into it. `None` unless there is one value
-    /// per vertex given.
-    pub fn to_welded<T: Copy>(&self, values: &[T]) -> Option<Vec<T>> {
+    /// Values per vertex of the mesh given, carried to the welded mesh: where vertices were
+    /// merged, their values are folded together by `combine` in the order of the vertices.
+    /// `None` unless there is one value per vertex given.
+    pub fn to_welded<T: Copy>(&self, values: &[T], combine: impl Fn(T, T) -> T) -> Option<Vec<T>> {
         if values.len() != self.map.len() {
             return None;
         }
-        let count = self.map.iter().max().map_or(0, |&m| m as usize + 1);
-        let mut welded: Vec<Option<T>> = vec![None; count];
+        let mut welded: Vec<Option<T>> = vec![None; self.vertices];
         for (&to, &value) in self.map.iter().zip(values) {
-            welded[to as usize].get_or_insert(value);
+            let slot = &mut welded[to as usize];
+            *slot = Some(slot.map_or(value, |sofar| combine(sofar, value)));
         }
         welded.into_iter().collect()
     }
@@ -58,15 +65,17 @@ impl Weld {
     /// takes the value of the vertex it was merged into. `None` unless there is one value per
     /// welded vertex.
     pub fn to_given<T: Copy>(&self, values: &[T]) -> Option<Vec<T>> {
-        let count = self.map.iter().max().map_or(0, |&m| m as usize + 1);
-        (values.len() == count).then(|| self.map.iter().map(|&m| values[m as usize]).collect())
+        (values.len() == self.vertices)
+            .then(|| self.map.iter().map(|&m| values[m as usize]).collect())
     }
 }
 
 /// Merges the vertices used by triangles that lie at bitwise the same position into the first
 /// of them; the others are dropped and the indices closed up, in order. Triangles keep their
-/// order (none becomes degenerate: two corners at one position made it so already). The mesh
-/// is returned as it is when no two used vertices share a position.
+/// order (none becomes degenerate: two corners at one position made it so already), except
+/// that a triangle that now has the corners of an earlier one, in either winding, is dropped
+/// ([`Weld::duplicate_faces`]): welded, the two sides of a double-sided export would make every
+/// edge non-manifold. The mesh is returned as it is when no two used vertices share a position.
 ///
 /// ```
 /// use crestline::TriMesh;
@@ -106,14 +115,54 @@ pub fn weld_coincident(mesh: TriMesh) -> Result<(TriMesh, Weld)> {
     for v in 0..n {
         map[v] = map[into[v] as usize];
     }
-    let faces = mesh
+    let remapped: Vec<[u32; 3]> = mesh
         .faces()
         .par_iter()
         .map(|t| t.map(|i| map[i as usize]))
         .collect();
+    let (faces, duplicate_faces) = drop_repeated_faces(remapped);
+    let vertices = positions.len();
     let mut welded = TriMesh::new(positions, faces)?;
     welded.degenerate_faces += mesh.degenerate_faces;
-    Ok((welded, Weld { merged, map }))
+    let weld = Weld {
+        merged,
+        duplicate_faces,
+        map,
+        vertices,
+    };
+    Ok((welded, weld))
+}
+
+/// The triangles without those that repeat the corners of an earlier one (either winding),
+/// and how many were dropped.
+fn drop_repeated_faces(faces: Vec<[u32; 3]>) -> (Vec<[u32; 3]>, usize) {
+    let mut order: Vec<([u32; 3], u32)> = faces
+        .par_iter()
+        .enumerate()
+        .map(|(f, t)| {
+            let mut corners = *t;
+            corners.sort_unstable();
+            (corners, f as u32)
+        })
+        .collect();
+    order.par_sort_unstable();
+    let mut repeated = vec![false; faces.len()];
+    let mut count = 0;
+    for run in order.chunk_by(|a, b| a.0 == b.0) {
+        for &(_, f) in &run[1..] {
+            repeated[f as usize] = true;
+            count += 1;
+        }
+    }
+    if count == 0 {
+        return (faces, 0);
+    }
+    let kept = faces
+        .into_iter()
+        .zip(repeated)
+        .filter_map(|(t, repeated)| (!repeated).then_some(t))
+        .collect();
+    (kept, count)
 }
 
 /// The number of used vertices that share their position with another used vertex and
@@ -133,7 +182,10 @@ fn first_at_each_position(mesh: &TriMesh) -> (Vec<u32>, usize) {
     let n = mesh.num_vertices();
     let topo = mesh.topology();
     // Adding +0 turns −0 into +0 and leaves every other value as it is.
-    let key = |v: u32| mesh.position(v).map(|c| (c + 0.0).to_bits());
+    let key = |v: u32| -> [u64; 3] {
+        let p = mesh.position(v);
+        [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits())
+    };
     let mut order: Vec<(u64, u32)> = (0..n as u32)
         .into_par_iter()
         .filter(|&v| !topo.vertex_faces(v).is_empty())
@@ -149,14 +201,16 @@ fn first_at_each_position(mesh: &TriMesh) -> (Vec<u32>, usize) {
     order.par_sort_unstable();
     let mut into: Vec<u32> = (0..n as u32).collect();
     let mut merged = 0;
-    for run in order
-        .chunk_by(|a, b| a.0 == b.0)
-        .filter(|run| run.len() > 1)
-    {
-        // Equal hashes, nearly always equal positions: each goes to the first of the run at
-        // its position.
-        for (i, &(_, v)) in run.iter().enumerate() {
-            if let Some(&(_, first)) = run[..i].iter().find(|&&(_, u)| key(u) == key(v)) {
+    for run in order.chunk_by_mut(|a, b| a.0 == b.0) {
+        if run.len() < 2 {
+            continue;
+        }
+        // Equal hashes, nearly always equal positions; by position, then index, each goes to
+        // the first at its position.
+        run.sort_unstable_by_key(|&(_, v)| (key(v), v));
+        for pair in run.windows(2) {
+            let (first, v) = (pair[0].1, pair[1].1);
+            if key(first) == key(v) {
                 into[v as usize] = into[first as usize];
                 merged += 1;
             }
@@ -265,15 +319,47 @@ mod tests {
         assert_eq!(coincident_vertices(&welded), 0);
         // Values per vertex go across and back: the first copy's value wins.
         let given: Vec<usize> = (0..25).collect();
-        let there = weld.to_welded(&given).unwrap();
+        let there = weld.to_welded(&given, |first, _| first).unwrap();
         assert_eq!(there.len(), 7);
         let back = weld.to_given(&there).unwrap();
         for (v, &value) in back.iter().enumerate() {
             let first = weld.map.iter().position(|&m| m == weld.map[v]).unwrap();
             assert_eq!(value, first);
         }
-        assert!(weld.to_welded(&given[1..]).is_none());
+        assert!(weld.to_welded(&given[1..], usize::min).is_none());
         assert!(weld.to_given(&given).is_none());
+    }
+
+    #[test]
+    fn the_two_sides_of_a_double_sided_export_become_one() {
+        // Every piece twice, the second time wound the other way (and once more the same
+        // way): welded, the copies would give every edge four triangles.
+        let pieces = octahedron_in_pieces();
+        let mut positions: Vec<[f64; 3]> = pieces.positions().iter().map(|&p| p.into()).collect();
+        let mut faces = pieces.faces().to_vec();
+        for (k, t) in pieces.faces().iter().enumerate() {
+            let base = positions.len() as u32;
+            positions.extend(t.map(|v| <[f64; 3]>::from(pieces.position(v))));
+            faces.push(if k % 2 == 0 {
+                [base, base + 2, base + 1]
+            } else {
+                [base, base + 1, base + 2]
+            });
+        }
+        let double = TriMesh::from_arrays(positions, faces).unwrap();
+        let (welded, weld) = weld_coincident(double).unwrap();
+        assert_eq!((weld.merged, weld.duplicate_faces), (48 - 6, 8));
+        assert_eq!(
+            welded.faces(),
+            &pieces
+                .faces()
+                .iter()
+                .map(|t| t.map(|i| weld.map[i as usize]))
+                .collect::<Vec<_>>()[..]
+        );
+        assert_eq!(welded.topology().count_edges(EdgeKind::NonManifold), 0);
+        assert_eq!(welded.topology().count_edges(EdgeKind::Boundary), 0);
+        assert_eq!(weld.vertices, welded.num_vertices());
     }
 
     #[test]
