@@ -21,5 +21,6 @@ fandisk-ybs   fandisk.obj         ybs  30,20   --rings=1
 bunny-hpw     stanford-bunny.obj  hpw  30,20
 igea-hpw      igea.ply            hpw  20,10   --threshold=auto
 rocker-ybs    rocker-arm.obj      ybs  30,30   --rings=2
+teapot-hpw    teapot.obj          hpw  30,20
 LIST
 echo "gallery written to $out"

@@ -52,8 +52,7 @@ pub struct PrepareArgs {
     /// Keep vertices that share a position apart. By default vertices at exactly the same
     /// position are made one first (patches exported side by side, seams split for texture
     /// or normals): otherwise the surface ends at every such seam, and so do the fits and
-    /// the lines. Fields written per vertex keep one row per vertex of the file either way,
-    /// and pictures draw the triangles as read.
+    /// the lines. Fields written per vertex keep one row per vertex of the file either way.
     #[arg(long)]
     pub no_weld: bool,
 }
@@ -69,16 +68,10 @@ pub struct Prepared {
 }
 
 impl Prepared {
-    /// The mesh that outputs per vertex and pictures follow: as read (oriented, not welded),
-    /// so that a row of a field is a vertex of the file and hard edges that the file split on
-    /// purpose stay hard in a picture.
+    /// The mesh that fields written per vertex follow: as read (oriented, not welded), so
+    /// that a row is a vertex of the file.
     pub fn given_mesh(&self) -> &TriMesh {
         self.given.as_ref().unwrap_or(&self.mesh)
-    }
-
-    /// The mesh of [`Prepared::given_mesh`], taken out.
-    pub fn into_given(self) -> TriMesh {
-        self.given.unwrap_or(self.mesh)
     }
 
     /// Values per vertex of [`Prepared::mesh`] as values per vertex of

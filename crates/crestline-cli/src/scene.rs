@@ -170,26 +170,21 @@ impl SceneArgs {
         )
     }
 
-    /// Loads the mesh and the lines and computes the field. The field is computed on the mesh
-    /// welded and oriented as for every command; the mesh drawn is the one read (oriented),
-    /// so that hard edges the file split on purpose stay hard.
+    /// Loads the mesh (welded and oriented as for every command) and the lines and computes
+    /// the field.
     pub fn load(&self) -> Result<Scene> {
         let (mesh, name) = progress::step("reading", || self.input.load())?;
-        let prepared = prepare_mesh(mesh, &name, self.prepare)?;
+        let mesh = prepare_mesh(mesh, &name, self.prepare)?.mesh;
         let lines = match &self.lines {
             Some(path) => Some(read_lines(path)?),
             None => None,
         };
         let field = match self.field {
-            Some(f) => {
-                let values = progress::step(format!("field {}", f.name()), || {
-                    compute_field(&prepared.mesh, lines.as_ref(), f)
-                })?;
-                Some(prepared.per_given_vertex(values)?)
-            }
+            Some(f) => Some(progress::step(format!("field {}", f.name()), || {
+                compute_field(&mesh, lines.as_ref(), f)
+            })?),
             None => None,
         };
-        let mesh = prepared.into_given();
         Ok(Scene { mesh, lines, field })
     }
 

@@ -211,10 +211,8 @@ pub fn run(args: Args) -> Result<()> {
 
     let mut picture_options =
         crestline::render::RenderOptions::default().with_wireframe(args.wireframe.wireframe);
-    // Pictures show the mesh as read: hard edges the file split on purpose stay hard.
-    let drawn = prepared.given_mesh();
     if args.png.is_some() || args.svg.is_some() || args.html.is_some() {
-        picture_options.up = resolve_up(args.up.axis(), drawn);
+        picture_options.up = resolve_up(args.up.axis(), mesh);
     }
     for (path, write) in [
         (&args.png, crestline::render::write_png as PictureWriter),
@@ -222,7 +220,7 @@ pub fn run(args: Args) -> Result<()> {
         (&args.html, crestline::render::write_html),
     ] {
         if let Some(path) = path {
-            write(path, drawn, Some(&extraction.lines), None, &picture_options)?;
+            write(path, mesh, Some(&extraction.lines), None, &picture_options)?;
             note!("wrote {}", path.display());
         }
     }

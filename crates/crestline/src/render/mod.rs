@@ -109,7 +109,8 @@ pub struct RenderOptions {
     /// How far (as a fraction of the bounding-box diagonal) a line point may lie behind the
     /// surface and still count as visible. Default: 0.004.
     pub depth_bias: f64,
-    /// Interpolate vertex normals across faces (false: one normal per face). Default: true.
+    /// Interpolate normals across faces, but not across folds of more than 30 degrees, as
+    /// modelling tools' "auto smooth" does (false: one normal per face). Default: true.
     pub smooth_shading: bool,
     /// Light that reaches every surface, in [0, 1]; the diffuse part is `1 - ambient`.
     /// Default: 0.3.

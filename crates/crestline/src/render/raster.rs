@@ -15,10 +15,16 @@
 //!
 //! ## Shading
 //! A second pass computes, for each covered pixel, the barycentric coordinates of its
-//! centre in its face, interpolates the vertex normals (or takes the face normal), turns
+//! centre in its face, interpolates the normals of its corners (or takes the face normal), turns
 //! the normal towards the camera (two-sided lighting) and applies Lambert diffuse plus a
 //! Blinn highlight. The light is attached to the camera: it shines from the viewer, a little
 //! from the upper left, so relief reads the same from every direction.
+//!
+//! A corner's normal is its vertex's (area-weighted) normal, except where the surface folds
+//! at the vertex (a face of its star more than [`FOLD_DEGREES`] off the corner's face): there
+//! it averages only the faces within that angle of the corner's face, as modelling tools'
+//! "auto smooth" does. A cube's faces stay flat and a CAD part's creases crisp, also when its
+//! file stored the sides of each crease with separate vertices and they were welded.
 
 use rayon::prelude::*;
 
@@ -26,6 +32,10 @@ use super::camera::Camera;
 use super::colormap::ColorScale;
 use super::{RenderOptions, Rgb};
 use crate::mesh::{TriMesh, Vec3, vertex_normals_area};
+
+/// The angle between two faces at a vertex beyond which the shading does not smooth across
+/// them (degrees).
+pub const FOLD_DEGREES: f64 = 30.0;
 
 /// Rows per band of parallel work.
 pub const BAND_ROWS: usize = 16;
@@ -283,9 +293,77 @@ impl Band<'_> {
     }
 }
 
+/// The normals of the faces' corners: per vertex, and per corner where the surface folds
+/// (see the module docs).
+struct CornerNormals {
+    vertex: Vec<Vec3>,
+    /// Per face, an index into `folded`, or `u32::MAX` when its corners take their vertices'
+    /// normals.
+    face: Vec<u32>,
+    folded: Vec<[Vec3; 3]>,
+}
+
+impl CornerNormals {
+    fn new(mesh: &TriMesh) -> Self {
+        let vertex = vertex_normals_area(mesh);
+        let faces = mesh.faces();
+        let topo = mesh.topology();
+        // Face normals weighted by area (cross products); whether two faces fold.
+        let weighted: Vec<Vec3> = (0..faces.len())
+            .into_par_iter()
+            .map(|f| {
+                let [a, b, c] = mesh.triangle(f);
+                (b - a).cross(&(c - a))
+            })
+            .collect();
+        let cos_fold = FOLD_DEGREES.to_radians().cos();
+        let within = |n: &Vec3, g: u32| {
+            let m = &weighted[g as usize];
+            n.dot(m) >= cos_fold * n.norm() * m.norm()
+        };
+        let folded: Vec<(u32, [Vec3; 3])> = (0..faces.len())
+            .into_par_iter()
+            .filter_map(|f| {
+                let n = &weighted[f];
+                let star = |k: usize| topo.vertex_faces(faces[f][k]);
+                let folds = (0..3).any(|k| star(k).iter().any(|&g| !within(n, g)));
+                folds.then(|| {
+                    let corners = std::array::from_fn(|k| {
+                        star(k)
+                            .iter()
+                            .filter(|&&g| within(n, g))
+                            .map(|&g| weighted[g as usize])
+                            .sum::<Vec3>()
+                            .try_normalize(0.0)
+                            .unwrap_or_else(|| n.try_normalize(0.0).unwrap_or_else(Vec3::zeros))
+                    });
+                    (f as u32, corners)
+                })
+            })
+            .collect();
+        let mut face = vec![u32::MAX; faces.len()];
+        for (i, (f, _)) in folded.iter().enumerate() {
+            face[*f as usize] = i as u32;
+        }
+        CornerNormals {
+            vertex,
+            face,
+            folded: folded.into_iter().map(|(_, corners)| corners).collect(),
+        }
+    }
+
+    /// The normal of corner `k` of face `f`, whose vertices are `t`.
+    fn corner(&self, f: u32, t: &[u32; 3], k: usize) -> Vec3 {
+        match self.face[f as usize] {
+            u32::MAX => self.vertex[t[k] as usize],
+            i => self.folded[i as usize][k],
+        }
+    }
+}
+
 /// Everything the shading pass needs besides the buffer.
 pub struct Shading {
-    normals: Option<Vec<Vec3>>,
+    normals: Option<CornerNormals>,
     toward: Vec3,
     light: Vec3,
     half: Vec3,
@@ -302,7 +380,7 @@ impl Shading {
         let toward = camera.toward();
         let light = (toward + camera.up() * 0.35 - camera.right() * 0.25).normalize();
         Shading {
-            normals: opts.smooth_shading.then(|| vertex_normals_area(mesh)),
+            normals: opts.smooth_shading.then(|| CornerNormals::new(mesh)),
             toward,
             light,
             half: (light + toward).normalize(),
@@ -334,11 +412,10 @@ pub fn shade(
     field: Option<(&ColorScale, &[f64])>,
     rgba: &mut [u8],
 ) {
-    let faces = mesh.faces();
     for_each_pixel(buffer, rgba, |face, p, px| {
         let rgb = match face {
             None => shading.background,
-            Some(f) => shade_pixel(mesh, faces[f as usize], screen, shading, field, p),
+            Some(f) => shade_pixel(mesh, f, screen, shading, field, p),
         };
         px.copy_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
     });
@@ -365,15 +442,16 @@ pub fn for_each_pixel(
         });
 }
 
-/// The colour of face `t` at the pixel centre `p` (snapped units).
+/// The colour of face `f` at the pixel centre `p` (snapped units).
 fn shade_pixel(
     mesh: &TriMesh,
-    t: [u32; 3],
+    f: u32,
     screen: &[ScreenVertex],
     shading: &Shading,
     field: Option<(&ColorScale, &[f64])>,
     p: (i64, i64),
 ) -> Rgb {
+    let t = mesh.faces()[f as usize];
     let [a, b, c] = corners(screen, &t).map(|v| (v.x, v.y));
     let area = edge(a, b, c);
     // Projected winding is clockwise in the y-down frame when the face's normal points to
@@ -394,7 +472,7 @@ fn shade_pixel(
     };
     let normal = match &shading.normals {
         Some(normals) => {
-            let n: Vec3 = (0..3).map(|k| normals[t[k] as usize] * weights[k]).sum();
+            let n: Vec3 = (0..3).map(|k| normals.corner(f, &t, k) * weights[k]).sum();
             n * side
         }
         None => {
@@ -425,6 +503,25 @@ mod tests {
             y: (y * SUB as f64) as i64,
             z,
         }
+    }
+
+    #[test]
+    fn corners_at_a_fold_take_the_normals_of_their_own_side() {
+        // The octahedron folds by 109° at every edge: each face is shaded flat.
+        let octahedron = crate::shapes::octahedron();
+        let normals = CornerNormals::new(&octahedron);
+        for (f, t) in octahedron.faces().iter().enumerate() {
+            let [a, b, c] = octahedron.triangle(f);
+            let n = (b - a).cross(&(c - a)).normalize();
+            for k in 0..3 {
+                assert!((normals.corner(f as u32, t, k) - n).norm() < 1e-12);
+            }
+        }
+        // A fine sphere does not fold anywhere: every corner takes its vertex's normal.
+        let sphere = crate::shapes::icosphere(1.0, 3);
+        let normals = CornerNormals::new(&sphere);
+        assert!(normals.folded.is_empty());
+        assert!(normals.face.iter().all(|&i| i == u32::MAX));
     }
 
     fn covered(buf: &VisibilityBuffer) -> usize {
