@@ -91,7 +91,7 @@ impl Prepared {
 /// dropped, unreferenced vertices, non-manifold edges), then reverses the closed components
 /// that face inward (unless `args.keep_orientation`) and says so. Every command that
 /// estimates curvature or draws calls this (`info` reports the mesh as read; `subdivide`
-/// refines it as read): welding and orientation are decided here for the whole CLI, by the
+/// welds it only, [`weld_mesh`]): welding and orientation are decided here for the whole CLI, by the
 /// library's [`crestline::mesh::weld_coincident`] and [`crestline::mesh::orient_outward`]
 /// (which `extract` also runs by default).
 pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prepared> {
@@ -102,27 +102,7 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
         // A copy of the mesh as read (positions; the connectivity is shared), kept only when
         // welding changes it.
         let given = mesh.clone();
-        let boundary = mesh.topology().count_edges(EdgeKind::Boundary);
-        let (welded, weld) = crestline::mesh::weld_coincident(mesh)?;
-        if weld.merged > 0 {
-            let after = welded.topology().count_edges(EdgeKind::Boundary);
-            let mut also = String::new();
-            if after != boundary {
-                also += &format!("{boundary} -> {after} boundary edges; ");
-            }
-            if weld.duplicate_faces > 0 {
-                also += &format!(
-                    "dropped {} triangles that then repeated others, as the two sides of a \
-                     double-sided export do; ",
-                    weld.duplicate_faces
-                );
-            }
-            eprintln!(
-                "{name}: welded {} vertices that shared their position with another \
-                 ({also}--no-weld to keep them apart)",
-                weld.merged
-            );
-        }
+        let (welded, weld) = weld_mesh(mesh, name)?;
         let given = (weld.merged > 0).then_some(given);
         (welded, weld, given)
     };
@@ -130,20 +110,67 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
     if args.keep_orientation {
         return Ok(Prepared { mesh, weld, given });
     }
+    let (report, inward_faces) = crestline::mesh::orientation(&mesh);
+    if report.inward == 0 {
+        return Ok(Prepared { mesh, weld, given });
+    }
+    // The mesh as read is turned where the welded one is: a triangle is in an inward
+    // component when its first corner is.
+    let given = match given {
+        Some(given) => {
+            let mut inward = vec![false; mesh.num_vertices()];
+            for (t, _) in mesh.faces().iter().zip(&inward_faces).filter(|(_, i)| **i) {
+                inward[t[0] as usize] = true;
+            }
+            let faces = given
+                .faces()
+                .iter()
+                .map(|&[a, b, c]| {
+                    if inward[weld.map[a as usize] as usize] {
+                        [a, c, b]
+                    } else {
+                        [a, b, c]
+                    }
+                })
+                .collect();
+            Some(TriMesh::new(given.positions().to_vec(), faces)?)
+        }
+        None => None,
+    };
     let (mesh, report) = crestline::mesh::orient_outward(mesh)?;
-    // The mesh as read, turned alike (its components are those of the welded mesh or parts
-    // of them, so this says nothing new).
-    let given = given
-        .map(|given| crestline::mesh::orient_outward(given).map(|(given, _)| given))
-        .transpose()?;
-    if report.inward > 0 {
+    eprintln!(
+        "{name}: {} of {} closed components faced inward ({} triangles); reversed them so that \
+         normals point outward (--keep-orientation to keep them)",
+        report.inward, report.closed, report.inward_faces
+    );
+    Ok(Prepared { mesh, weld, given })
+}
+
+/// Welds the vertices of `mesh` that share a position ([`crestline::mesh::weld_coincident`])
+/// and says so on stderr when there were any.
+pub fn weld_mesh(mesh: TriMesh, name: &str) -> Result<(TriMesh, Weld)> {
+    let boundary = mesh.topology().count_edges(EdgeKind::Boundary);
+    let (welded, weld) = crestline::mesh::weld_coincident(mesh)?;
+    if weld.merged > 0 {
+        let after = welded.topology().count_edges(EdgeKind::Boundary);
+        let mut also = String::new();
+        if after != boundary {
+            also += &format!("{boundary} -> {after} boundary edges; ");
+        }
+        if weld.duplicate_faces > 0 {
+            also += &format!(
+                "dropped {} triangles that then repeated others, as the two sides of a \
+                 double-sided export do; ",
+                weld.duplicate_faces
+            );
+        }
         eprintln!(
-            "{name}: {} of {} closed components faced inward ({} triangles); reversed them so that \
-             normals point outward (--keep-orientation to keep them)",
-            report.inward, report.closed, report.inward_faces
+            "{name}: welded {} vertices that shared their position with another \
+             ({also}--no-weld to keep them apart)",
+            weld.merged
         );
     }
-    Ok(Prepared { mesh, weld, given })
+    Ok((welded, weld))
 }
 
 /// One line on stderr listing the parts of `mesh` that are skipped or handled specially,

@@ -4,7 +4,7 @@ use anyhow::Result;
 use crestline::io::{WriteOptions, write_mesh, write_mesh_to};
 use crestline::mesh::{SubdivideOptions, loop_subdivide};
 
-use crate::input::{MeshArgs, is_dash};
+use crate::input::{MeshArgs, is_dash, weld_mesh};
 use crate::output::{MeshOutputArgs, display, to_stdout};
 use crate::progress::{self, note};
 
@@ -23,6 +23,11 @@ pub struct Args {
     /// Default: 60.
     #[arg(long)]
     pub corner_angle: Option<f64>,
+    /// Keep vertices that share a position apart. By default they are made one first
+    /// (patches exported side by side): subdivided apart, every such seam would become a
+    /// boundary, and the surface a crease along it.
+    #[arg(long)]
+    pub no_weld: bool,
 }
 
 /// Runs the subcommand.
@@ -36,6 +41,11 @@ pub fn run(args: Args) -> Result<()> {
         options.corner_angle = angle;
     }
     let (mesh, name) = progress::step("reading", || args.input.load())?;
+    let mesh = if args.no_weld {
+        mesh
+    } else {
+        weld_mesh(mesh, &name)?.0
+    };
     let result = progress::step(
         format!("subdividing {} triangles", mesh.num_faces()),
         || loop_subdivide(&mesh, &options),

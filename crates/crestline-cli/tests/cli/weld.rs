@@ -183,3 +183,31 @@ fn the_two_sides_of_a_double_sided_export_become_one_surface() {
     assert_eq!(welded["ridges"], expected["ridges"]);
     assert_eq!(welded["valleys"], expected["valleys"]);
 }
+
+#[test]
+fn a_soup_wound_inward_is_written_back_turned_outward() {
+    // The curvature is estimated on the welded mesh, which is closed and turned outward; the
+    // mesh written with it keeps the file's vertices, its triangles turned alike.
+    let dir = tempfile::tempdir().unwrap();
+    let soup = dir.path().join("soup.off");
+    write_ellipsoid(&soup, true);
+    let text = std::fs::read_to_string(&soup).unwrap();
+    let inward: String = text
+        .lines()
+        .map(|l| match l.strip_prefix("3 ") {
+            Some(rest) => {
+                let v: Vec<&str> = rest.split(' ').collect();
+                format!("3 {} {} {}\n", v[0], v[2], v[1])
+            }
+            None => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(&soup, inward).unwrap();
+    let ply = dir.path().join("fields.ply");
+    let out = crestline_ok(["curvature", s(&soup), "-o", s(&ply)]);
+    assert!(stderr(&out).contains("faced inward"), "{}", stderr(&out));
+    let written = crestline::io::read_mesh(&ply, None).unwrap();
+    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
+    assert_eq!(written.num_vertices(), 3 * mesh.num_faces());
+    assert!(crestline::mesh::signed_volume(&written) > 0.0);
+}
