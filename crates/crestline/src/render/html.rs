@@ -10,7 +10,8 @@
 //! segment). Options (colours, view, lighting, legend) go in a small JSON object.
 //!
 //! ## What the page does
-//! Vertex normals are computed in the page. The mesh is lit like the PNG (two-sided, light
+//! The shading normals are computed in the page, as for the PNG: not smoothed across folds of
+//! more than 30° (a corner there gets a vertex of its own). The mesh is lit like the PNG (two-sided, light
 //! from the camera, a little from the upper left); lines are screen-aligned quads of the
 //! chosen width with a halo, depth-tested against the mesh, which is pushed back by its
 //! slope (polygon offset) plus the depth bias of the options. Drag orbits (the same
