@@ -46,6 +46,9 @@ use crate::mesh::mesh_from_arrays;
 /// - `no_gaps`: turn off YBS's gap jumping.
 /// - `keep_orientation`: keep the triangles' winding. By default closed components facing
 ///   inward are reversed first (curvature signs follow the normals).
+/// - `no_twicing`: plain extremality smoothing, as HPW smooth (by default the residual the
+///   smoothing removes is smoothed and added back: its noise reduction without the drift of
+///   the zeros).
 /// - `no_weld`: keep vertices at the same position apart. By default they are made one first
 ///   (patches exported side by side, seams split for texture or normals), as the
 ///   command-line tool does: otherwise the surface, its fits and its lines end at every seam.
@@ -58,7 +61,7 @@ use crate::mesh::mesh_from_arrays;
     smooth_steps = None, smooth_time = None, crease_angle = None, direction_support = None,
     fair = None, pre_smooth = None, estimator = None, radius = None, rings = None,
     mask = None, mask_spheres = None, mask_boxes = None, no_gaps = false,
-    keep_orientation = false, no_weld = false,
+    keep_orientation = false, no_weld = false, no_twicing = false,
 ))]
 pub fn extract(
     py: Python<'_>,
@@ -82,6 +85,7 @@ pub fn extract(
     no_gaps: bool,
     keep_orientation: bool,
     no_weld: bool,
+    no_twicing: bool,
 ) -> PyResult<Lines> {
     let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
     let mut options = ExtractOptions::for_method(choose("method", method, &METHODS)?);
@@ -92,6 +96,7 @@ pub fn extract(
         options.smooth_only_noisy = false;
     }
     options.smoothing.time_step = smooth_time.unwrap_or(options.smoothing.time_step);
+    options.smoothing.twicing = !no_twicing;
     if let Some(degrees) = crease_angle {
         options.smoothing.crease_angle = degrees.to_radians();
     }

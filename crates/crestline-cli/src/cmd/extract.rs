@@ -92,6 +92,11 @@ pub struct Args {
     /// (HPW and YBS; default 1).
     #[arg(long, value_parser = positive)]
     pub smooth_time: Option<f64>,
+    /// Plain extremality smoothing, as HPW smooth (HPW and YBS). By default the smoothing is
+    /// twiced: the residual it removes is smoothed and added back, which keeps the noise it
+    /// takes out and not the drift it gives the zeros of the extremalities (twice the steps).
+    #[arg(long)]
+    pub no_twicing: bool,
     /// Crease-aware smoothing (HPW and YBS): damp the smoothing across edges where the
     /// curvature jumps by about this dihedral angle, in degrees, 0 to 180 (default 17; 0 gives
     /// HPW's plain smoothing).
@@ -408,6 +413,7 @@ pub fn options_from_args(args: &Args) -> Result<ExtractOptions> {
     if let Some(t) = args.smooth_time {
         o.smoothing.time_step = t;
     }
+    o.smoothing.twicing = !args.no_twicing;
     if let Some(degrees) = args.crease_angle {
         o.smoothing.crease_angle = degrees.to_radians();
     }

@@ -103,6 +103,7 @@ def extract(
     no_gaps: bool = False,
     keep_orientation: bool = False,
     no_weld: bool = False,
+    no_twicing: bool = False,
 ) -> Lines:
     """Finds the ridges and valleys of the mesh (vertices, faces).
 
@@ -123,6 +124,8 @@ def extract(
     - mask, mask_spheres, mask_boxes: per-vertex diffusion factors and regions scaling them.
     - no_gaps: turn off YBS's gap jumping.
     - keep_orientation: keep the winding (default: closed components facing inward are reversed).
+    - no_twicing: plain extremality smoothing as HPW's (default: twiced, the residual smoothed
+      and added back, which removes the drift of the zeros).
     - no_weld: keep vertices at the same position apart (default: they are made one first, as
       ``crestline extract`` does; the mask still has one value per vertex given).
 
