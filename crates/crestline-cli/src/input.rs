@@ -115,12 +115,15 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
         return Ok(Prepared { mesh, weld, given });
     }
     // The mesh as read is turned where the welded one is: a triangle is in an inward
-    // component when its first corner is.
+    // component when its first corner is (components are over shared vertices; every corner
+    // of an inward triangle is marked, so that triangles the weld dropped follow too).
     let given = match given {
         Some(given) => {
             let mut inward = vec![false; mesh.num_vertices()];
             for (t, _) in mesh.faces().iter().zip(&inward_faces).filter(|(_, i)| **i) {
-                inward[t[0] as usize] = true;
+                for &v in t {
+                    inward[v as usize] = true;
+                }
             }
             let faces = given
                 .faces()

@@ -31,7 +31,7 @@ use crate::mesh::mesh_from_arrays;
 ///   run when the curvature estimate finds the surface noisy; giving a number always runs
 ///   them) and step size relative to the squared mean edge length (default 1).
 /// - `crease_angle`: damp the smoothing across curvature jumps of about this angle, in
-///   degrees (default 17; 0 is HPW's plain smoothing).
+///   degrees (default 17; 0 with `no_twicing` is HPW's plain smoothing).
 /// - `direction_support`: neighbourhood weight in the shape operator's principal directions
 ///   (default 0.5; 0 is the paper's operator).
 /// - `fair`: spatial fairing, largest displacement as a fraction of the diagonal (off).

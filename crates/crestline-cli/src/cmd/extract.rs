@@ -93,13 +93,13 @@ pub struct Args {
     #[arg(long, value_parser = positive)]
     pub smooth_time: Option<f64>,
     /// Plain extremality smoothing, as HPW smooth (HPW and YBS). By default the smoothing is
-    /// twiced: the residual it removes is smoothed and added back, which keeps the noise it
-    /// takes out and not the drift it gives the zeros of the extremalities (twice the steps).
+    /// twiced: the residual it removes is smoothed and added back, which removes about the same
+    /// noise without the drift it gives the zeros of the extremalities (twice the steps).
     #[arg(long)]
     pub no_twicing: bool,
     /// Crease-aware smoothing (HPW and YBS): damp the smoothing across edges where the
-    /// curvature jumps by about this dihedral angle, in degrees, 0 to 180 (default 17; 0 gives
-    /// HPW's plain smoothing).
+    /// curvature jumps by about this dihedral angle, in degrees, 0 to 180 (default 17; 0 with
+    /// --no-twicing gives HPW's plain smoothing).
     #[arg(long, value_name = "DEGREES", value_parser = degrees)]
     pub crease_angle: Option<f64>,
     /// Sharp creases: `auto` (default: edges above the gap in the histogram of dihedral

@@ -25,7 +25,8 @@ pub struct Args {
     pub corner_angle: Option<f64>,
     /// Keep vertices that share a position apart. By default they are made one first
     /// (patches exported side by side): subdivided apart, every such seam would become a
-    /// boundary, and the surface a crease along it.
+    /// boundary, and the surface a crease along it. Keep them apart where a file split its
+    /// hard edges on purpose (a cube of 24 vertices) and they should stay sharp.
     #[arg(long)]
     pub no_weld: bool,
 }

@@ -114,7 +114,7 @@ def extract(
     - min_length: fraction of the bounding-box diagonal (default 0.01).
     - smooth_steps (default 2, run on noisy surfaces; a number always runs them), smooth_time
       (default 1, relative to the squared mean edge length).
-    - crease_angle: degrees (default 17; 0 is HPW's plain smoothing).
+    - crease_angle: degrees (default 17; 0 with no_twicing is HPW's plain smoothing).
     - direction_support: default 0.5 (0 is the paper's shape operator).
     - fair: fairing tolerance as a fraction of the diagonal (off).
     - pre_smooth: mean-curvature-flow steps first (off).

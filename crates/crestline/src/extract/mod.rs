@@ -37,7 +37,7 @@
 //! every k from 1 to 4, and the torus stays empty. Measured alternatives: larger k (the
 //! paper's own remedy, k = 3 in its Fig. 5) passes at k = 3 with 4 pieces and a 0.069
 //! deviation against a 0.075 tolerance, and fails at k = 2; one smoothing step leaves the
-//! equator split around the valence-5 vertices. The price is one smoothing solve per family
+//! equator split around the valence-5 vertices. The price is the smoothing solves (twiced: twice the steps)
 //! (`BENCHMARKS.md`, "Extremality smoothing solver"); T is measured on the smoothed fields,
 //! as for HPW.
 //!

@@ -248,8 +248,8 @@ pub struct ExtractOptions {
     /// a deliberate deviation from the papers (see [`crate::extract`]).
     pub curvature: CurvatureOptions,
     /// Step 3: sign-aware extremality smoothing, for every method (the saliency method's
-    /// feature points are crest points). Default: 2 steps of size 1 (relative), crease-aware
-    /// ([`ExtremalitySmoothing::default`]); for YBS [`YBS_DEFAULT_SMOOTHING_STEPS`], a
+    /// feature points are crest points). Default: 2 steps of size 1 (relative), crease-aware,
+    /// twiced ([`ExtremalitySmoothing::default`]); for YBS [`YBS_DEFAULT_SMOOTHING_STEPS`], a
     /// deviation from the paper (see [`crate::extract`]; 0 steps is YBS as published).
     pub smoothing: ExtremalitySmoothing,
     /// Run the extremality smoothing only when the curvature estimate found the surface

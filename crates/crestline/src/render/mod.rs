@@ -109,8 +109,9 @@ pub struct RenderOptions {
     /// How far (as a fraction of the bounding-box diagonal) a line point may lie behind the
     /// surface and still count as visible. Default: 0.004.
     pub depth_bias: f64,
-    /// Interpolate normals across faces, but not across folds of more than 30 degrees, as
-    /// modelling tools' "auto smooth" does (false: one normal per face). Default: true.
+    /// Interpolate normals across faces, but not across folds of more than 30 degrees (a
+    /// corner there averages the faces within 30° of its own; false: one normal per face).
+    /// Default: true.
     pub smooth_shading: bool,
     /// Light that reaches every surface, in [0, 1]; the diffuse part is `1 - ambient`.
     /// Default: 0.3.

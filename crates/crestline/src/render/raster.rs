@@ -22,8 +22,9 @@
 //!
 //! A corner's normal is its vertex's (area-weighted) normal, except where the surface folds
 //! at the vertex (a face of its star more than [`FOLD_DEGREES`] off the corner's face): there
-//! it averages only the faces within that angle of the corner's face, as modelling tools'
-//! "auto smooth" does. A cube's faces stay flat and a CAD part's creases crisp, also when its
+//! it averages only the faces within that angle of the corner's face (per face, unlike
+//! modelling tools' "auto smooth", which splits the fan at sharp edges: at a fan that turns
+//! by more than the angle in small steps, neighbouring faces can then disagree a little). A cube's faces stay flat and a CAD part's creases crisp, also when its
 //! file stored the sides of each crease with separate vertices and they were welded.
 
 use rayon::prelude::*;

@@ -116,6 +116,7 @@ fn extracted_lines_keep_detail_near_them_on_fandisk() {
     options.curvature.estimator = crestline::curvature::Estimator::ShapeOperator;
     options.curvature.shape_operator.direction_support = 0.0;
     options.smoothing.crease_angle = 0.0;
+    options.smoothing.twicing = false;
     options.smoothing.steps = 3;
     // As published: no crease curves (issue 20), which would cover every crease.
     options.creases.angle = crestline::lines::crease::CreaseAngle::Off;
