@@ -95,85 +95,99 @@ impl Prepared {
 /// library's [`crestline::mesh::weld_coincident`] and [`crestline::mesh::orient_outward`]
 /// (which `extract` also runs by default).
 pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prepared> {
-    let (mesh, weld, given) = if args.no_weld {
-        let weld = Weld::identity(mesh.num_vertices());
-        (mesh, weld, None)
+    let welded = if args.no_weld {
+        None
     } else {
-        // A copy of the mesh as read (positions; the connectivity is shared), kept only when
-        // welding changes it.
-        let given = mesh.clone();
-        let (welded, weld) = weld_mesh(mesh, name)?;
-        let given = (weld.merged > 0).then_some(given);
-        (welded, weld, given)
+        weld_mesh(&mesh, name)?
+    };
+    // The mesh as read is kept only when welding changed it.
+    let (mesh, weld, given) = match welded {
+        Some((welded, weld)) => (welded, weld, Some(mesh)),
+        None => {
+            let weld = Weld::identity(mesh.num_vertices());
+            (mesh, weld, None)
+        }
     };
     note_awkward_parts(&mesh, name);
     if args.keep_orientation {
         return Ok(Prepared { mesh, weld, given });
     }
-    let (report, inward_faces) = crestline::mesh::orientation(&mesh);
-    if report.inward == 0 {
-        return Ok(Prepared { mesh, weld, given });
-    }
-    // The mesh as read is turned where the welded one is: a triangle is in an inward
-    // component when its first corner is (components are over shared vertices; every corner
-    // of an inward triangle is marked, so that triangles the weld dropped follow too).
     let given = match given {
-        Some(given) => {
-            let mut inward = vec![false; mesh.num_vertices()];
-            for (t, _) in mesh.faces().iter().zip(&inward_faces).filter(|(_, i)| **i) {
-                for &v in t {
-                    inward[v as usize] = true;
-                }
-            }
-            let faces = given
-                .faces()
-                .iter()
-                .map(|&[a, b, c]| {
-                    if inward[weld.map[a as usize] as usize] {
-                        [a, c, b]
-                    } else {
-                        [a, b, c]
-                    }
-                })
-                .collect();
-            Some(TriMesh::new(given.positions().to_vec(), faces)?)
-        }
+        Some(given) => Some(turned_like(given, &mesh, &weld)?),
         None => None,
     };
     let (mesh, report) = crestline::mesh::orient_outward(mesh)?;
-    eprintln!(
-        "{name}: {} of {} closed components faced inward ({} triangles); reversed them so that \
-         normals point outward (--keep-orientation to keep them)",
-        report.inward, report.closed, report.inward_faces
-    );
+    if report.inward > 0 {
+        eprintln!(
+            "{name}: {} of {} closed components faced inward ({} triangles); reversed them so \
+             that normals point outward (--keep-orientation to keep them)",
+            report.inward, report.closed, report.inward_faces
+        );
+    }
     Ok(Prepared { mesh, weld, given })
 }
 
-/// Welds the vertices of `mesh` that share a position ([`crestline::mesh::weld_coincident`])
-/// and says so on stderr when there were any.
-pub fn weld_mesh(mesh: TriMesh, name: &str) -> Result<(TriMesh, Weld)> {
-    let boundary = mesh.topology().count_edges(EdgeKind::Boundary);
-    let (welded, weld) = crestline::mesh::weld_coincident(mesh)?;
-    if weld.merged > 0 {
-        let after = welded.topology().count_edges(EdgeKind::Boundary);
-        let mut also = String::new();
-        if after != boundary {
-            also += &format!("{boundary} -> {after} boundary edges; ");
+/// The mesh as read (`given`), turned where [`crestline::mesh::orient_outward`] turns the
+/// mesh `welded` from it by `weld`: a triangle is in an inward component when its first corner
+/// is (components are over shared vertices; every corner of an inward triangle is marked, so
+/// that triangles the weld dropped follow too).
+fn turned_like(given: TriMesh, welded: &TriMesh, weld: &Weld) -> Result<TriMesh> {
+    let (report, inward_faces) = crestline::mesh::orientation(welded);
+    if report.inward == 0 {
+        return Ok(given);
+    }
+    let mut inward = vec![false; welded.num_vertices()];
+    for (t, _) in welded
+        .faces()
+        .iter()
+        .zip(&inward_faces)
+        .filter(|(_, i)| **i)
+    {
+        for &v in t {
+            inward[v as usize] = true;
         }
-        if weld.duplicate_faces > 0 {
-            also += &format!(
-                "dropped {} triangles that then repeated others, as the two sides of a \
-                 double-sided export do; ",
-                weld.duplicate_faces
-            );
-        }
-        eprintln!(
-            "{name}: welded {} vertices that shared their position with another \
-             ({also}--no-weld to keep them apart)",
-            weld.merged
+    }
+    let faces = given
+        .faces()
+        .iter()
+        .map(|&[a, b, c]| {
+            if inward[weld.map[a as usize] as usize] {
+                [a, c, b]
+            } else {
+                [a, b, c]
+            }
+        })
+        .collect();
+    Ok(TriMesh::new(given.positions().to_vec(), faces)?)
+}
+
+/// Welds the vertices of `mesh` that share a position ([`crestline::mesh::welded`]) and says
+/// so on stderr; `None` when there were none.
+pub fn weld_mesh(mesh: &TriMesh, name: &str) -> Result<Option<(TriMesh, Weld)>> {
+    let Some((welded, weld)) = crestline::mesh::welded(mesh)? else {
+        return Ok(None);
+    };
+    let (before, after) = (
+        mesh.topology().count_edges(EdgeKind::Boundary),
+        welded.topology().count_edges(EdgeKind::Boundary),
+    );
+    let mut also = String::new();
+    if after != before {
+        also += &format!("{before} -> {after} boundary edges; ");
+    }
+    if weld.duplicate_faces > 0 {
+        also += &format!(
+            "dropped {} triangles that then repeated others, as the two sides of a \
+             double-sided export do; ",
+            weld.duplicate_faces
         );
     }
-    Ok((welded, weld))
+    eprintln!(
+        "{name}: welded {} vertices that shared their position with another \
+         ({also}--no-weld to keep them apart)",
+        weld.merged
+    );
+    Ok(Some((welded, weld)))
 }
 
 /// One line on stderr listing the parts of `mesh` that are skipped or handled specially,

@@ -45,7 +45,7 @@ pub fn run(args: Args) -> Result<()> {
     let mesh = if args.no_weld {
         mesh
     } else {
-        weld_mesh(mesh, &name)?.0
+        weld_mesh(&mesh, &name)?.map_or(mesh, |(welded, _)| welded)
     };
     let result = progress::step(
         format!("subdividing {} triangles", mesh.num_faces()),

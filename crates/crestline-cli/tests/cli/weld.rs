@@ -6,37 +6,50 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::ffi::OsStr;
-use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::common::{crestline_ok, s, stderr};
 
-use crestline::shapes;
+use crestline::io::{Format, WriteOptions, write_mesh};
+use crestline::{TriMesh, Vec3, shapes};
 
-/// Writes the ellipsoid x²/9 + y²/4 + z² = 1 as OFF, joined or as a soup of triangles.
-fn write_ellipsoid(path: &Path, soup: bool) {
-    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
-    let points: Vec<_> = if soup {
-        mesh.faces()
-            .iter()
-            .flat_map(|t| t.map(|v| mesh.position(v)))
-            .collect()
+/// The ellipsoid x²/9 + y²/4 + z² = 1, whose crest lines are known.
+fn ellipsoid() -> TriMesh {
+    shapes::ellipsoid(3.0, 2.0, 1.0, 4)
+}
+
+/// Writes `positions` and `faces` as OFF (coordinates exactly, by the library's writer).
+fn write_off(path: &Path, positions: Vec<Vec3>, faces: Vec<[u32; 3]>) {
+    let mesh = TriMesh::new(positions, faces).unwrap();
+    write_mesh(path, &mesh, Format::Off, &WriteOptions::default()).unwrap();
+}
+
+/// Every triangle of `mesh` with its own three corners, as STL stores it (wound the other
+/// way when `reverse`).
+fn soup(mesh: &TriMesh, reverse: bool) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let positions = mesh
+        .faces()
+        .iter()
+        .flat_map(|t| t.map(|v| mesh.position(v)))
+        .collect();
+    let faces = (0..mesh.num_faces() as u32)
+        .map(|f| {
+            let [a, b, c] = [3 * f, 3 * f + 1, 3 * f + 2];
+            if reverse { [a, c, b] } else { [a, b, c] }
+        })
+        .collect();
+    (positions, faces)
+}
+
+/// Writes the ellipsoid as OFF, joined or as a soup of triangles.
+fn write_ellipsoid(path: &Path, as_soup: bool) {
+    let mesh = ellipsoid();
+    let (positions, faces) = if as_soup {
+        soup(&mesh, false)
     } else {
-        mesh.positions().to_vec()
+        (mesh.positions().to_vec(), mesh.faces().to_vec())
     };
-    let mut off = format!("OFF\n{} {} 0\n", points.len(), mesh.num_faces());
-    for p in &points {
-        writeln!(off, "{:?} {:?} {:?}", p.x, p.y, p.z).unwrap();
-    }
-    for (f, [a, b, c]) in mesh.faces().iter().enumerate() {
-        let [a, b, c] = if soup {
-            [3 * f, 3 * f + 1, 3 * f + 2]
-        } else {
-            [*a as usize, *b as usize, *c as usize]
-        };
-        writeln!(off, "3 {a} {b} {c}").unwrap();
-    }
-    std::fs::write(path, off).unwrap();
+    write_off(path, positions, faces);
 }
 
 /// Runs `crestline extract` with `extra` arguments; returns the stats and stderr.
@@ -102,7 +115,7 @@ fn info_counts_coincident_vertices() {
     let dir = tempfile::tempdir().unwrap();
     let soup = dir.path().join("soup.off");
     write_ellipsoid(&soup, true);
-    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
+    let mesh = ellipsoid();
     let out = crestline_ok(["info", s(&soup)]);
     let text = String::from_utf8(out.stdout).unwrap();
     let expected = 3 * mesh.num_faces() - mesh.num_vertices();
@@ -128,7 +141,7 @@ fn fields_keep_one_row_per_vertex_of_the_file() {
             .collect()
     };
     let (soup_rows, joined_rows) = (rows(&soup), rows(&joined));
-    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
+    let mesh = ellipsoid();
     assert_eq!(soup_rows.len(), 3 * mesh.num_faces());
     // Each corner's row is the row of the joined mesh's vertex at its place.
     for (corner, row) in soup_rows.iter().enumerate() {
@@ -154,26 +167,12 @@ fn the_two_sides_of_a_double_sided_export_become_one_surface() {
     let (joined, double) = (dir.path().join("joined.off"), dir.path().join("double.off"));
     write_ellipsoid(&joined, false);
     // Every triangle twice, the second copy wound the other way and with its own vertices.
-    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
-    let n = mesh.num_vertices();
-    let mut off = format!("OFF\n{} {} 0\n", 2 * n, 2 * mesh.num_faces());
-    for p in mesh.positions().iter().chain(mesh.positions()) {
-        writeln!(off, "{:?} {:?} {:?}", p.x, p.y, p.z).unwrap();
-    }
-    for [a, b, c] in mesh.faces() {
-        writeln!(off, "3 {a} {b} {c}").unwrap();
-    }
-    for [a, b, c] in mesh.faces() {
-        writeln!(
-            off,
-            "3 {} {} {}",
-            *a as usize + n,
-            *c as usize + n,
-            *b as usize + n
-        )
-        .unwrap();
-    }
-    std::fs::write(&double, off).unwrap();
+    let mesh = ellipsoid();
+    let n = mesh.num_vertices() as u32;
+    let positions = [mesh.positions(), mesh.positions()].concat();
+    let reversed = mesh.faces().iter().map(|&[a, b, c]| [a + n, c + n, b + n]);
+    let faces = mesh.faces().iter().copied().chain(reversed).collect();
+    write_off(&double, positions, faces);
     let (expected, _) = extract(&joined, &[]);
     let (welded, note) = extract(&double, &[]);
     assert!(
@@ -189,25 +188,14 @@ fn a_soup_wound_inward_is_written_back_turned_outward() {
     // The curvature is estimated on the welded mesh, which is closed and turned outward; the
     // mesh written with it keeps the file's vertices, its triangles turned alike.
     let dir = tempfile::tempdir().unwrap();
-    let soup = dir.path().join("soup.off");
-    write_ellipsoid(&soup, true);
-    let text = std::fs::read_to_string(&soup).unwrap();
-    let inward: String = text
-        .lines()
-        .map(|l| match l.strip_prefix("3 ") {
-            Some(rest) => {
-                let v: Vec<&str> = rest.split(' ').collect();
-                format!("3 {} {} {}\n", v[0], v[2], v[1])
-            }
-            None => format!("{l}\n"),
-        })
-        .collect();
-    std::fs::write(&soup, inward).unwrap();
+    let path = dir.path().join("soup.off");
+    let (positions, faces) = soup(&ellipsoid(), true);
+    write_off(&path, positions, faces);
     let ply = dir.path().join("fields.ply");
-    let out = crestline_ok(["curvature", s(&soup), "-o", s(&ply)]);
+    let out = crestline_ok(["curvature", s(&path), "-o", s(&ply)]);
     assert!(stderr(&out).contains("faced inward"), "{}", stderr(&out));
     let written = crestline::io::read_mesh(&ply, None).unwrap();
-    let mesh = shapes::ellipsoid(3.0, 2.0, 1.0, 4);
+    let mesh = ellipsoid();
     assert_eq!(written.num_vertices(), 3 * mesh.num_faces());
     assert!(crestline::mesh::signed_volume(&written) > 0.0);
 }

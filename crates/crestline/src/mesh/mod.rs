@@ -29,7 +29,7 @@ pub(crate) use sides::corner_angle;
 pub use sides::{SIDE_TIE, widest_side};
 pub use subdivide::{SubdivideOptions, loop_subdivide};
 pub use topology::{EdgeKind, Topology, VertexKind};
-pub use weld::{Weld, coincident_vertices, weld_coincident};
+pub use weld::{Weld, coincident_vertices, weld_coincident, welded};
 
 use std::sync::Arc;
 

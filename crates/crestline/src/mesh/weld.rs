@@ -99,10 +99,25 @@ impl Weld {
 /// # Errors
 /// None in practice (the welded mesh is checked as every mesh is built).
 pub fn weld_coincident(mesh: TriMesh) -> Result<(TriMesh, Weld)> {
+    Ok(match welded(&mesh)? {
+        Some(welded) => welded,
+        None => {
+            let weld = Weld::identity(mesh.num_vertices());
+            (mesh, weld)
+        }
+    })
+}
+
+/// [`weld_coincident`] of a mesh that is kept: the welded mesh, or `None` when no two used
+/// vertices share a position (nothing to copy then).
+///
+/// # Errors
+/// As [`weld_coincident`].
+pub fn welded(mesh: &TriMesh) -> Result<Option<(TriMesh, Weld)>> {
     let n = mesh.num_vertices();
-    let (into, merged) = first_at_each_position(&mesh);
+    let (into, merged) = first_at_each_position(mesh);
     if merged == 0 {
-        return Ok((mesh, Weld::identity(n)));
+        return Ok(None);
     }
     let mut map = vec![0u32; n];
     let mut positions = Vec::with_capacity(n - merged);
@@ -130,7 +145,7 @@ pub fn weld_coincident(mesh: TriMesh) -> Result<(TriMesh, Weld)> {
         map,
         vertices,
     };
-    Ok((welded, weld))
+    Ok(Some((welded, weld)))
 }
 
 /// The triangles without those that repeat the corners of an earlier one (either winding),
@@ -181,11 +196,7 @@ pub fn coincident_vertices(mesh: &TriMesh) -> usize {
 fn first_at_each_position(mesh: &TriMesh) -> (Vec<u32>, usize) {
     let n = mesh.num_vertices();
     let topo = mesh.topology();
-    // Adding +0 turns −0 into +0 and leaves every other value as it is.
-    let key = |v: u32| -> [u64; 3] {
-        let p = mesh.position(v);
-        [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits())
-    };
+    let key = |v: u32| position_key(mesh.position(v));
     let mut order: Vec<(u64, u32)> = (0..n as u32)
         .into_par_iter()
         .filter(|&v| !topo.vertex_faces(v).is_empty())
@@ -219,8 +230,15 @@ fn first_at_each_position(mesh: &TriMesh) -> (Vec<u32>, usize) {
     (into, merged)
 }
 
+/// The bits of a position's coordinates, +0 and −0 alike: equal keys, same place.
+fn position_key(p: Vec3) -> [u64; 3] {
+    // Adding +0 turns −0 into +0 and leaves every other value as it is.
+    [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits())
+}
+
 /// One index per distinct position (bitwise, +0 = −0): the first one given for it.
 pub(crate) struct PositionMap {
+    // Tuples, not arrays: an array's hash writes its length first.
     index_of: HashMap<(u64, u64, u64), u32, BuildHasherDefault<WeldHasher>>,
 }
 
@@ -234,13 +252,8 @@ impl PositionMap {
     /// The index of `p`: the one it was first given, or else `index`.
     #[inline]
     pub(crate) fn index_or(&mut self, p: Vec3, index: u32) -> u32 {
-        // Adding +0 turns −0 into +0 and leaves every other value as it is.
-        let key = (
-            (p.x + 0.0).to_bits(),
-            (p.y + 0.0).to_bits(),
-            (p.z + 0.0).to_bits(),
-        );
-        *self.index_of.entry(key).or_insert(index)
+        let [x, y, z] = position_key(p);
+        *self.index_of.entry((x, y, z)).or_insert(index)
     }
 }
 

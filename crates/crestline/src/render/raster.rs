@@ -32,7 +32,7 @@ use rayon::prelude::*;
 use super::camera::Camera;
 use super::colormap::ColorScale;
 use super::{RenderOptions, Rgb};
-use crate::mesh::{TriMesh, Vec3, vertex_normals_area};
+use crate::mesh::{TriMesh, Vec3};
 
 /// The angle between two faces at a vertex beyond which the shading does not smooth across
 /// them (degrees).
@@ -306,38 +306,44 @@ struct CornerNormals {
 
 impl CornerNormals {
     fn new(mesh: &TriMesh) -> Self {
-        let vertex = vertex_normals_area(mesh);
         let faces = mesh.faces();
         let topo = mesh.topology();
-        // Face normals weighted by area (cross products); whether two faces fold.
-        let weighted: Vec<Vec3> = (0..faces.len())
+        // Face normals weighted by area (cross products) and their lengths, once.
+        let (weighted, lengths): (Vec<Vec3>, Vec<f64>) = (0..faces.len())
             .into_par_iter()
             .map(|f| {
                 let [a, b, c] = mesh.triangle(f);
-                (b - a).cross(&(c - a))
+                let n = (b - a).cross(&(c - a));
+                (n, n.norm())
             })
+            .unzip();
+        // The normal of the faces `star` keeps (unit; `fallback` when they cancel).
+        let sum = |star: &[u32], keep: &dyn Fn(u32) -> bool, fallback: Vec3| {
+            star.iter()
+                .filter(|&&g| keep(g))
+                .map(|&g| weighted[g as usize])
+                .sum::<Vec3>()
+                .try_normalize(0.0)
+                .unwrap_or(fallback)
+        };
+        // The area-weighted vertex normals (those of `crate::mesh::vertex_normals_area`).
+        let vertex: Vec<Vec3> = (0..mesh.num_vertices() as u32)
+            .into_par_iter()
+            .map(|v| sum(topo.vertex_faces(v), &|_| true, Vec3::zeros()))
             .collect();
         let cos_fold = FOLD_DEGREES.to_radians().cos();
-        let within = |n: &Vec3, g: u32| {
-            let m = &weighted[g as usize];
-            n.dot(m) >= cos_fold * n.norm() * m.norm()
+        let within = |f: usize, g: u32| {
+            let g = g as usize;
+            weighted[f].dot(&weighted[g]) >= cos_fold * lengths[f] * lengths[g]
         };
         let folded: Vec<(u32, [Vec3; 3])> = (0..faces.len())
             .into_par_iter()
             .filter_map(|f| {
-                let n = &weighted[f];
                 let star = |k: usize| topo.vertex_faces(faces[f][k]);
-                let folds = (0..3).any(|k| star(k).iter().any(|&g| !within(n, g)));
+                let folds = (0..3).any(|k| star(k).iter().any(|&g| !within(f, g)));
                 folds.then(|| {
-                    let corners = std::array::from_fn(|k| {
-                        star(k)
-                            .iter()
-                            .filter(|&&g| within(n, g))
-                            .map(|&g| weighted[g as usize])
-                            .sum::<Vec3>()
-                            .try_normalize(0.0)
-                            .unwrap_or_else(|| n.try_normalize(0.0).unwrap_or_else(Vec3::zeros))
-                    });
+                    let own = weighted[f].try_normalize(0.0).unwrap_or_else(Vec3::zeros);
+                    let corners = std::array::from_fn(|k| sum(star(k), &|g| within(f, g), own));
                     (f as u32, corners)
                 })
             })
