@@ -52,7 +52,9 @@ pub struct PrepareArgs {
     /// Keep vertices that share a position apart. By default vertices at exactly the same
     /// position are made one first (patches exported side by side, seams split for texture
     /// or normals): otherwise the surface ends at every such seam, and so do the fits and
-    /// the lines. Fields written per vertex keep one row per vertex of the file either way.
+    /// the lines. Triangles that then repeat the corners of another (double-sided exports, a
+    /// piece stored twice) are dropped too. Fields written per vertex keep one row per vertex
+    /// of the file either way.
     #[arg(long)]
     pub no_weld: bool,
 }
@@ -174,6 +176,14 @@ pub fn weld_mesh(mesh: &TriMesh, name: &str) -> Result<Option<(TriMesh, Weld)>> 
     let mut also = String::new();
     if after != before {
         also += &format!("{before} -> {after} boundary edges; ");
+    }
+    if weld.merged == 0 {
+        eprintln!(
+            "{name}: dropped {} triangles that repeated the corners of others (a piece stored \
+             twice; --no-weld to keep them)",
+            weld.duplicate_faces
+        );
+        return Ok(Some((welded, weld)));
     }
     if weld.duplicate_faces > 0 {
         also += &format!(

@@ -48,6 +48,7 @@ enum Command {
 fn main() -> std::process::ExitCode {
     allocator::return_large_blocks_when_freed();
     interrupt::remove_partial_outputs_on_signals();
+    interrupt::end_quietly_when_output_fails();
     let cli = Cli::parse();
     progress::set_quiet(cli.quiet);
     let result = match cli.command {

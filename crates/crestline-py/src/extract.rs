@@ -52,6 +52,7 @@ use crate::mesh::mesh_from_arrays;
 /// - `no_weld`: keep vertices at the same position apart. By default they are made one first
 ///   (patches exported side by side, seams split for texture or normals), as the
 ///   command-line tool does: otherwise the surface, its fits and its lines end at every seam.
+///   Triangles that repeat the corners of another are dropped too.
 ///
 /// Returns a `Lines`. Raises `ValueError` for bad arrays (shape, NaN, index out of range)
 /// or options.

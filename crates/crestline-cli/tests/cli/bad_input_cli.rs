@@ -368,3 +368,20 @@ fn every_writer_refuses_or_replaces_whole_an_output_that_is_an_input() {
         }
     }
 }
+
+#[test]
+fn a_closed_standard_output_ends_the_run_quietly() {
+    // `crestline info m.obj | head -0`: the pipe is closed before anything is written.
+    let fandisk = shared_meshes_dir().join("fandisk.obj");
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let run = Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args(["info", s(&fandisk)])
+        .stdout(writer)
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .unwrap();
+    let stderr = stderr(&run);
+    assert_eq!(run.status.code(), Some(141), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

@@ -18,7 +18,7 @@ use rayon::prelude::*;
 
 use crate::error::Result;
 
-use super::{TriMesh, Vec3};
+use super::{EdgeKind, TriMesh, Vec3};
 
 /// What [`weld_coincident`] did.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -75,7 +75,9 @@ impl Weld {
 /// order (none becomes degenerate: two corners at one position made it so already), except
 /// that a triangle that now has the corners of an earlier one, in either winding, is dropped
 /// ([`Weld::duplicate_faces`]): welded, the two sides of a double-sided export would make every
-/// edge non-manifold. The mesh is returned as it is when no two used vertices share a position.
+/// edge non-manifold. Triangles that repeat others without any welding (a piece stored twice
+/// over the same vertices) are dropped alike. The mesh is returned as it is when no two used
+/// vertices share a position and no triangle repeats another.
 ///
 /// ```
 /// use crestline::TriMesh;
@@ -109,7 +111,7 @@ pub fn weld_coincident(mesh: TriMesh) -> Result<(TriMesh, Weld)> {
 }
 
 /// [`weld_coincident`] of a mesh that is kept: the welded mesh, or `None` when no two used
-/// vertices share a position (nothing to copy then).
+/// vertices share a position and no triangle repeats another (nothing to copy then).
 ///
 /// # Errors
 /// As [`weld_coincident`].
@@ -117,7 +119,7 @@ pub fn welded(mesh: &TriMesh) -> Result<Option<(TriMesh, Weld)>> {
     let n = mesh.num_vertices();
     let (into, merged) = first_at_each_position(mesh);
     if merged == 0 {
-        return Ok(None);
+        return without_repeated_faces(mesh);
     }
     let mut map = vec![0u32; n];
     let mut positions = Vec::with_capacity(n - merged);
@@ -146,6 +148,27 @@ pub fn welded(mesh: &TriMesh) -> Result<Option<(TriMesh, Weld)>> {
         vertices,
     };
     Ok(Some((welded, weld)))
+}
+
+/// The mesh without the triangles that repeat the corners of an earlier one (either winding)
+/// when nothing is welded, or `None` when there are none. Repeated triangles make their edges
+/// non-manifold (a double-sided piece, a piece stored twice), so a mesh without non-manifold
+/// edges is not searched.
+fn without_repeated_faces(mesh: &TriMesh) -> Result<Option<(TriMesh, Weld)>> {
+    if mesh.topology().count_edges(EdgeKind::NonManifold) == 0 {
+        return Ok(None);
+    }
+    let (faces, duplicate_faces) = drop_repeated_faces(mesh.faces().to_vec());
+    if duplicate_faces == 0 {
+        return Ok(None);
+    }
+    let mut kept = TriMesh::new(mesh.positions().to_vec(), faces)?;
+    kept.degenerate_faces += mesh.degenerate_faces;
+    let weld = Weld {
+        duplicate_faces,
+        ..Weld::identity(mesh.num_vertices())
+    };
+    Ok(Some((kept, weld)))
 }
 
 /// The triangles without those that repeat the corners of an earlier one (either winding),
@@ -373,6 +396,28 @@ mod tests {
         assert_eq!(welded.topology().count_edges(EdgeKind::NonManifold), 0);
         assert_eq!(welded.topology().count_edges(EdgeKind::Boundary), 0);
         assert_eq!(weld.vertices, welded.num_vertices());
+    }
+
+    #[test]
+    fn triangles_stored_twice_over_the_same_vertices_are_dropped() {
+        // A closed sphere whose triangles all appear twice, the copies wound either way:
+        // nothing to weld, but every edge has four triangles.
+        let sphere = crate::shapes::icosphere(1.0, 2);
+        let mut faces = sphere.faces().to_vec();
+        for (k, &[a, b, c]) in sphere.faces().iter().enumerate() {
+            faces.push(if k % 2 == 0 { [a, c, b] } else { [b, c, a] });
+        }
+        let twice = TriMesh::new(sphere.positions().to_vec(), faces).unwrap();
+        assert!(twice.topology().count_edges(EdgeKind::NonManifold) > 0);
+        let (kept, weld) = welded(&twice).unwrap().expect("repeated triangles dropped");
+        assert_eq!((weld.merged, weld.duplicate_faces), (0, sphere.num_faces()));
+        assert_eq!(kept.faces(), sphere.faces());
+        assert_eq!(kept.positions(), sphere.positions());
+        assert_eq!(
+            weld.map,
+            (0..sphere.num_vertices() as u32).collect::<Vec<_>>()
+        );
+        assert_eq!(kept.topology().count_edges(EdgeKind::NonManifold), 0);
     }
 
     #[test]

@@ -267,32 +267,41 @@ fn run_steps(
     curvature: &mut Curvature,
     options: &ExtremalitySmoothing,
 ) -> Result<()> {
-    let smooth = |a: &mut Vec<f64>, b: &mut Vec<f64>| -> Result<()> {
-        smoother.steps(a, b, options.steps)?;
+    let smooth = |a: &mut Vec<f64>, b: &mut Vec<f64>, tolerance: f64| -> Result<()> {
+        smoother.steps_within(a, b, options.steps, tolerance)?;
         if options.twicing {
             // 2 S e − S (S e): the residual e − S e smoothed and added back.
             let (mut a2, mut b2) = (a.clone(), b.clone());
-            smoother.steps(&mut a2, &mut b2, options.steps)?;
+            smoother.steps_within(&mut a2, &mut b2, options.steps, tolerance)?;
             for (once, twice) in a.iter_mut().zip(&a2).chain(b.iter_mut().zip(&b2)) {
                 *once = 2.0 * *once - twice;
             }
         }
         Ok(())
     };
-    smooth(&mut curvature.e_max, &mut curvature.e_min)?;
+    smooth(&mut curvature.e_max, &mut curvature.e_min, 0.0)?;
     // The second model's extremalities lie along the same directions: smoothed alike, so
     // that the crossings of the two are compared after the same steps.
     if curvature.has_alternative_extremalities() {
         let [a, b] = &mut curvature.alternative_extremalities;
-        smooth(a, b)?;
+        smooth(a, b, 0.0)?;
     }
+    // Of the simulated noise only the median magnitude is read
+    // ([`Curvature::set_simulated_noise`]): solved to [`NOISE_TOLERANCE`].
     if curvature.extremality_noise > 0.0 {
         let [mut a, mut b] = std::mem::take(&mut curvature.simulated_noise);
-        smooth(&mut a, &mut b)?;
+        smooth(&mut a, &mut b, NOISE_TOLERANCE)?;
         curvature.set_simulated_noise([a, b]);
     }
     Ok(())
 }
+
+/// The relative residual to which the steps on the simulated noise are solved (where the
+/// solver's own tolerance is not looser). Only its median magnitude is read, which moves by
+/// about as much: measured on igea and horse ×16, the extremality noise moves by 1e-4 of
+/// itself against the default 1e-5 and the lines stay the same, for 43 and 48% fewer
+/// iterations on those fields (16 and 20% fewer in all).
+pub const NOISE_TOLERANCE: f64 = 1e-3;
 
 /// The smoothing operator of both families, for repeated steps.
 #[derive(Debug)]
@@ -427,6 +436,22 @@ impl<'m> ExtremalitySmoother<'m> {
     /// As [`ExtremalitySmoother::step`].
     pub fn steps(&self, e_max: &mut [f64], e_min: &mut [f64], count: usize) -> Result<usize> {
         self.operator.steps(&mut [e_max, e_min], count)
+    }
+
+    /// [`ExtremalitySmoother::steps`] solved to the relative residual `tolerance` where that
+    /// is looser than the solver's own ([`DiffusionOperator::steps_within`]).
+    ///
+    /// # Errors
+    /// As [`ExtremalitySmoother::step`].
+    pub fn steps_within(
+        &self,
+        e_max: &mut [f64],
+        e_min: &mut [f64],
+        count: usize,
+        tolerance: f64,
+    ) -> Result<usize> {
+        self.operator
+            .steps_within(&mut [e_max, e_min], count, tolerance)
     }
 }
 

@@ -155,6 +155,28 @@ pub fn cotan_weights_and_mass(mesh: &TriMesh, positions: &[Vec3]) -> (Vec<f64>, 
     (weights, mass)
 }
 
+/// The power of two nearest `x` (1 for zero, non-finite or extreme values): dividing by it
+/// is exact.
+fn power_of_two_near(x: f64) -> f64 {
+    if !(x.is_finite() && x > 0.0) {
+        return 1.0;
+    }
+    let exponent = x.log2().round().clamp(-1000.0, 1000.0) as i32;
+    2f64.powi(exponent)
+}
+
+/// The mass and the time step divided by the power of two nearest the mean mass: the system
+/// `(M + t L) u' = M u` is the same, but its entries are near 1 whatever the model's unit
+/// (single precision holds 1e±38; the mass of a model in nanometres is 1e-18 m²).
+fn unit_mass(mut mass: Vec<f64>, time: f64) -> (Vec<f64>, f64) {
+    let mean = mass.iter().sum::<f64>() / mass.len().max(1) as f64;
+    let scale = power_of_two_near(mean);
+    if scale != 1.0 {
+        mass.par_iter_mut().for_each(|m| *m /= scale);
+    }
+    (mass, time / scale)
+}
+
 /// Vertices per parallel work item of [`cotan_weights_and_mass`].
 const VERTEX_BLOCK: usize = 2048;
 
@@ -224,6 +246,7 @@ impl<'m> DiffusionOperator<'m> {
         solver: LinearSolver,
     ) -> Result<Self> {
         round_weights(&mut weights);
+        let (mass, time) = unit_mass(mass, time);
         let solver = match solver {
             LinearSolver::ConjugateGradient(options) => Solver::ConjugateGradient(
                 ConnectionSystem::new(mesh.topology(), weights, mass, time, flips, options)?,
@@ -245,6 +268,7 @@ impl<'m> DiffusionOperator<'m> {
     /// As [`DiffusionOperator::new`].
     pub fn update(&mut self, mut weights: Vec<f64>, mass: Vec<f64>, time: f64) -> Result<()> {
         round_weights(&mut weights);
+        let (mass, time) = unit_mass(mass, time);
         match &mut self.solver {
             Solver::ConjugateGradient(s) => s.update(weights, mass, time),
             Solver::Plain(s) => s.update(self.mesh.topology(), &weights, mass, time),
@@ -283,12 +307,60 @@ impl<'m> DiffusionOperator<'m> {
     /// # Errors
     /// As [`DiffusionOperator::step`].
     pub fn steps(&self, fields: &mut [&mut [f64]], count: usize) -> Result<usize> {
+        self.steps_within(fields, count, 0.0)
+    }
+
+    /// [`DiffusionOperator::steps`] solved only to the relative residual `tolerance`, where
+    /// that is looser than the solver's own [`ConjugateGradientOptions::tolerance`] (fields
+    /// of which only a statistic is read). Cholesky solves exactly either way.
+    ///
+    /// # Errors
+    /// As [`DiffusionOperator::step`].
+    pub fn steps_within(
+        &self,
+        fields: &mut [&mut [f64]],
+        count: usize,
+        tolerance: f64,
+    ) -> Result<usize> {
+        // Each field divided by the power of two nearest its largest magnitude, and
+        // multiplied back after: exact, and single precision neither overflows nor
+        // underflows on fields of a model in nanometres or in light years.
+        let scales: Vec<f64> = fields
+            .iter()
+            .map(|f| {
+                power_of_two_near(
+                    f.par_iter()
+                        .fold(|| 0.0, |m: f64, x| m.max(x.abs()))
+                        .reduce(|| 0.0, f64::max),
+                )
+            })
+            .collect();
+        let rescale = |fields: &mut [&mut [f64]], by: &dyn Fn(f64) -> f64| {
+            for (field, &scale) in fields.iter_mut().zip(&scales) {
+                if scale != 1.0 {
+                    let factor = by(scale);
+                    field.par_iter_mut().for_each(|x| *x *= factor);
+                }
+            }
+        };
+        rescale(fields, &|scale| 1.0 / scale);
+        let result = self.solve_steps(fields, count, tolerance);
+        rescale(fields, &|scale| scale);
+        result
+    }
+
+    fn solve_steps(
+        &self,
+        fields: &mut [&mut [f64]],
+        count: usize,
+        tolerance: f64,
+    ) -> Result<usize> {
         match &self.solver {
-            Solver::ConjugateGradient(s) => s.steps(fields, count),
+            Solver::ConjugateGradient(s) => s.steps_within(fields, count, tolerance),
             Solver::Plain(s) => {
                 let mut iterations = 0;
                 for _ in 0..count {
-                    iterations += s.step(fields)?;
+                    iterations += s.step_within(fields, tolerance)?;
                 }
                 Ok(iterations)
             }
@@ -306,6 +378,53 @@ impl<'m> DiffusionOperator<'m> {
 mod tests {
     use super::*;
     use crate::shapes;
+
+    /// Two implicit steps of a field of curvature units (1/length²) on `mesh` scaled by
+    /// `scale`, with the time step of the extremality smoothing (the squared edge length),
+    /// by `solver`; the result in the units of the unscaled mesh.
+    fn steps_at_scale(mesh: &TriMesh, scale: f64, solver: LinearSolver) -> Vec<f64> {
+        let positions: Vec<Vec3> = mesh.positions().iter().map(|p| p * scale).collect();
+        let scaled = TriMesh::new(positions, mesh.faces().to_vec()).unwrap();
+        let (weights, mass) = cotan_weights_and_mass(&scaled, scaled.positions());
+        let time = crate::mesh::mean_edge_length(&scaled).powi(2);
+        let operator =
+            DiffusionOperator::new(&scaled, weights, mass, time, &[None], solver).unwrap();
+        let mut field: Vec<f64> = mesh
+            .positions()
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (p.x.sin() + (i % 7) as f64) / (scale * scale))
+            .collect();
+        operator.steps(&mut [&mut field], 2).unwrap();
+        field.iter().map(|x| x * scale * scale).collect()
+    }
+
+    #[test]
+    fn steps_do_not_depend_on_the_models_unit() {
+        // In nanometres or in light years, single precision would underflow or overflow in
+        // the mass, the time step or the values (conjugate gradients broke down on both).
+        let mesh = shapes::torus(3.0, 1.0, 30, 12);
+        for solver in [
+            LinearSolver::DEFAULT,
+            LinearSolver::PlainConjugateGradient(ConjugateGradientOptions::DEFAULT),
+            LinearSolver::Cholesky,
+        ] {
+            let unit = steps_at_scale(&mesh, 1.0, solver);
+            for scale in [1e-21, 1e19, 0.25] {
+                let scaled = steps_at_scale(&mesh, scale, solver);
+                let worst = unit
+                    .iter()
+                    .zip(&scaled)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                assert!(worst < 1e-4, "{solver:?} at scale {scale}: off by {worst}");
+                if scale == 0.25 {
+                    // A power of two scales every operation exactly.
+                    assert_eq!(unit, scaled, "{solver:?}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn cotan_weights_of_a_right_isoceles_pair() {

@@ -98,6 +98,19 @@ impl DiffusionSystem {
     /// [`Error::InvalidInput`] for a wrong number or length of fields; [`Error::Solver`] when
     /// the tolerance is not reached within the iteration limit.
     pub fn step(&self, fields: &mut [&mut [f64]]) -> Result<usize> {
+        self.step_within(fields, 0.0)
+    }
+
+    /// [`DiffusionSystem::step`] solved to the relative residual `tolerance` where that is
+    /// looser than [`ConjugateGradientOptions::tolerance`].
+    ///
+    /// # Errors
+    /// As [`DiffusionSystem::step`].
+    pub fn step_within(&self, fields: &mut [&mut [f64]], tolerance: f64) -> Result<usize> {
+        let options = ConjugateGradientOptions {
+            tolerance: tolerance.max(self.options.tolerance),
+            ..self.options
+        };
         let n = self.mass.len();
         if fields.len() != self.fields() || fields.iter().any(|f| f.len() != n) {
             return Err(Error::InvalidInput(format!(
@@ -108,7 +121,7 @@ impl DiffusionSystem {
         let mut worst = 0;
         for (a, u) in self.matrices.iter().zip(fields.iter_mut()) {
             let b: Vec<f64> = self.mass.iter().zip(u.iter()).map(|(m, x)| m * x).collect();
-            worst = worst.max(jacobi_cg(a, &b, u, &self.options)?);
+            worst = worst.max(jacobi_cg(a, &b, u, &options)?);
         }
         Ok(worst)
     }

@@ -313,6 +313,22 @@ impl<'m> ConnectionSystem<'m> {
     /// # Errors
     /// As [`ConnectionSystem::step`].
     pub fn steps(&self, fields: &mut [&mut [f64]], count: usize) -> Result<usize> {
+        self.steps_within(fields, count, self.options.tolerance)
+    }
+
+    /// [`ConnectionSystem::steps`], each step solved to the relative residual `tolerance`
+    /// instead of [`ConjugateGradientOptions::tolerance`] (at least that: a larger of the two
+    /// is kept).
+    ///
+    /// # Errors
+    /// As [`ConnectionSystem::step`].
+    pub fn steps_within(
+        &self,
+        fields: &mut [&mut [f64]],
+        count: usize,
+        tolerance: f64,
+    ) -> Result<usize> {
+        let tolerance = tolerance.max(self.options.tolerance);
         let n = self.diagonal.len();
         if fields.len() != self.fields || fields.iter().any(|f| f.len() != n) {
             return Err(Error::InvalidInput(format!(
@@ -324,14 +340,14 @@ impl<'m> ConnectionSystem<'m> {
             return Ok(0);
         }
         match fields.len() {
-            1 => self.solve_jacobi::<1>(fields, count),
-            2 => self.solve_jacobi::<2>(fields, count),
-            3 => self.solve_jacobi::<3>(fields, count),
-            4 => self.solve_jacobi::<4>(fields, count),
-            5 => self.solve_jacobi::<5>(fields, count),
-            6 => self.solve_jacobi::<6>(fields, count),
-            7 => self.solve_jacobi::<7>(fields, count),
-            _ => self.solve_jacobi::<8>(fields, count),
+            1 => self.solve_jacobi::<1>(fields, count, tolerance),
+            2 => self.solve_jacobi::<2>(fields, count, tolerance),
+            3 => self.solve_jacobi::<3>(fields, count, tolerance),
+            4 => self.solve_jacobi::<4>(fields, count, tolerance),
+            5 => self.solve_jacobi::<5>(fields, count, tolerance),
+            6 => self.solve_jacobi::<6>(fields, count, tolerance),
+            7 => self.solve_jacobi::<7>(fields, count, tolerance),
+            _ => self.solve_jacobi::<8>(fields, count, tolerance),
         }
     }
 
@@ -424,7 +440,12 @@ impl<'m> ConnectionSystem<'m> {
     ///
     /// Takes `steps` steps, each from the result of the last, with one set of working vectors
     /// (allocating them for every step maps and faults in 20 bytes per vertex again).
-    fn solve_jacobi<const K: usize>(&self, x: &mut [&mut [f64]], steps: usize) -> Result<usize> {
+    fn solve_jacobi<const K: usize>(
+        &self,
+        x: &mut [&mut [f64]],
+        steps: usize,
+        tolerance: f64,
+    ) -> Result<usize> {
         let n = self.diagonal.len();
         let mut work = Work::<K> {
             d: self.diagonal.par_iter().map(|&d| d as f32).collect(),
@@ -435,7 +456,7 @@ impl<'m> ConnectionSystem<'m> {
         };
         let mut iterations = 0;
         for _ in 0..steps {
-            iterations += self.jacobi_step(x, &mut work)?;
+            iterations += self.jacobi_step(x, &mut work, tolerance)?;
         }
         Ok(iterations)
     }
@@ -445,6 +466,7 @@ impl<'m> ConnectionSystem<'m> {
         &self,
         x: &mut [&mut [f64]],
         work: &mut Work<K>,
+        tolerance: f64,
     ) -> Result<usize> {
         // The right-hand side b = M x₀ of the start values x₀ holds for the whole step (the
         // residuals of later rounds are taken against it, not against the moving x). The
@@ -466,8 +488,7 @@ impl<'m> ConnectionSystem<'m> {
                 rz[f] = rhs_norm2[f];
             }
         }
-        let threshold: [f64; K] =
-            std::array::from_fn(|f| self.options.tolerance.powi(2) * rhs_norm2[f]);
+        let threshold: [f64; K] = std::array::from_fn(|f| tolerance.powi(2) * rhs_norm2[f]);
         let mut done: [bool; K] = std::array::from_fn(|f| rz[f] <= threshold[f]);
         let mut iterations = 0;
         let mut rhs: Vec<[f64; K]> = Vec::new();
@@ -506,7 +527,7 @@ impl<'m> ConnectionSystem<'m> {
                         "conjugate gradients stalled after {iterations} iterations at relative \
                          residual {:.3e} (tolerance {:.1e})",
                         (next[f] / rhs_norm2[f]).sqrt(),
-                        self.options.tolerance
+                        tolerance
                     )));
                 }
                 rz[f] = next[f];

@@ -178,3 +178,61 @@ fn rejects_bad_input() {
             .is_err()
     );
 }
+
+/// The relative residual `‖b − A u‖ / ‖b‖` of one step from `u0` to `u` (σ = +1), in the
+/// norm of the solver's stopping test (`D^{-½}`, D the diagonal of A).
+fn scaled_residual(mesh: &TriMesh, time: f64, u0: &[f64], u: &[f64]) -> f64 {
+    let mut w = cotan_weights(mesh, mesh.positions());
+    round_weights(&mut w);
+    let mass = lumped_mass(mesh, mesh.positions());
+    let topo = mesh.topology();
+    let lhs = apply(mesh, time, None, u);
+    let (mut r2, mut b2) = (0.0, 0.0);
+    for v in 0..mesh.num_vertices() {
+        let row: f64 = topo
+            .vertex_edges(v as u32)
+            .iter()
+            .map(|&e| w[e as usize])
+            .sum();
+        let diagonal = mass[v] + time * row;
+        let b = mass[v] * u0[v];
+        r2 += (b - lhs[v]).powi(2) / diagonal;
+        b2 += b * b / diagonal;
+    }
+    (r2 / b2).sqrt()
+}
+
+#[test]
+fn steps_within_a_looser_tolerance_stop_there_and_never_below_the_solvers() {
+    let mesh = shapes::torus(3.0, 1.0, 40, 16);
+    let u0: Vec<f64> = mesh
+        .positions()
+        .iter()
+        .enumerate()
+        .map(|(i, p)| p.x.sin() + ((i * 7919) % 13) as f64 / 13.0)
+        .collect();
+    let time = 0.5;
+    let sys = system(&mesh, time, &[None], ConjugateGradientOptions::DEFAULT);
+    let mut tight = u0.clone();
+    let tight_iterations = sys.step(&mut [&mut tight]).unwrap();
+    let mut loose = u0.clone();
+    let loose_iterations = sys.steps_within(&mut [&mut loose], 1, 1e-2).unwrap();
+    assert!(
+        loose_iterations < tight_iterations,
+        "{loose_iterations} against {tight_iterations}"
+    );
+    let (tight_residual, loose_residual) = (
+        scaled_residual(&mesh, time, &u0, &tight),
+        scaled_residual(&mesh, time, &u0, &loose),
+    );
+    assert!(tight_residual <= 1e-5, "{tight_residual}");
+    assert!(
+        loose_residual <= 1e-2 && loose_residual > 1e-5,
+        "{loose_residual}"
+    );
+    // A tolerance tighter than the solver's is not taken: the solver's own holds.
+    let mut same = u0.clone();
+    let same_iterations = sys.steps_within(&mut [&mut same], 1, 1e-9).unwrap();
+    assert_eq!(same_iterations, tight_iterations);
+    assert_eq!(same, tight);
+}
