@@ -40,6 +40,7 @@ def process_mesh(path, out_dir, method="hpw"):
         "lines": len(lines),
         "ridges": lines.kinds.count("ridge"),
         "valleys": lines.kinds.count("valley"),
+        "creases": sum(kind.startswith("crease") for kind in lines.kinds),
         "seconds": time.perf_counter() - start,
         "output": str(output),
     }
@@ -65,7 +66,8 @@ def main():
                 continue
             print(
                 f"{row['mesh']:24} {row['faces']:>9} faces {row['lines']:>5} lines "
-                f"({row['ridges']} ridges, {row['valleys']} valleys) {row['seconds']:6.2f} s"
+                f"({row['ridges']} ridges, {row['valleys']} valleys, {row['creases']} creases) "
+                f"{row['seconds']:6.2f} s"
             )
 
 

@@ -1,7 +1,8 @@
 //! `crestline.curvature`: the command-line tool's `curvature`, on arrays.
 
-use crestline::curvature::{CurvatureOptions, estimate};
+use crestline::curvature::{CurvatureOptions, Estimator, estimate};
 use numpy::PyArray1;
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -13,26 +14,28 @@ use crate::mesh::{mesh_from_arrays, per_given_vertex};
 /// Principal curvatures, directions and extremalities of every vertex of the mesh
 /// `(vertices, faces)` (array-likes as for `extract`).
 ///
-/// Options, with the defaults of `crestline curvature`: `estimator` "jet-fit" (default),
-/// "shape-operator" or "cubic-fit"; `rings`, the k-ring of the cubic fit (1 to 4, default 1);
+/// Options, with the defaults of `crestline curvature`: `estimator` "jet-fit" (default;
+/// "cubic-fit" when `rings` is given), "shape-operator" or "cubic-fit"; `rings`, the k-ring of
+/// the cubic fit (1 to 8, default 1);
 /// `radius`, the jet fit's disc radius in sample spacings (default 2.5); `degree`, the jet
 /// fit's polynomial degree (3 or 4, default 4; 4 lets the fit choose on noisy meshes);
 /// `no_noise_adaptation`, keep the jet fit's radius fixed on noisy meshes;
-/// `keep_orientation` and `no_weld`, as for `extract`.
+/// `keep_orientation` and `no_weld`, as for `extract`. An option of another estimator than
+/// the one that runs is a `ValueError`, as on the command line.
 ///
 /// Returns a dict of numpy arrays indexed like the vertices: "k_max", "k_min", "e_max",
 /// "e_min" (n,) and "dir_max", "dir_min", "normals" (n, 3). Signs: a sphere of radius r
 /// has k = 1/r with outward normals; `k_max >= k_min`.
 #[pyfunction]
 #[pyo3(signature = (
-    vertices, faces, estimator = "jet-fit", *, rings = None, radius = None, degree = None,
+    vertices, faces, estimator = None, *, rings = None, radius = None, degree = None,
     no_noise_adaptation = false, keep_orientation = false, no_weld = false,
 ))]
 pub fn curvature<'py>(
     py: Python<'py>,
     vertices: &Bound<'py, PyAny>,
     faces: &Bound<'py, PyAny>,
-    estimator: &str,
+    estimator: Option<&str>,
     rings: Option<usize>,
     radius: Option<f64>,
     degree: Option<usize>,
@@ -41,8 +44,37 @@ pub fn curvature<'py>(
     no_weld: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
-    let mut options =
-        CurvatureOptions::default().with_estimator(choose("estimator", estimator, &ESTIMATORS)?);
+    let estimator = match (estimator, rings) {
+        (Some(name), _) => choose("estimator", name, &ESTIMATORS)?,
+        (None, Some(_)) => Estimator::CubicFit,
+        (None, None) => Estimator::JetFit,
+    };
+    let mut unused = Vec::new();
+    if estimator != Estimator::CubicFit && rings.is_some() {
+        unused.push("rings");
+    }
+    if estimator != Estimator::JetFit {
+        for (given, name) in [
+            (radius.is_some(), "radius"),
+            (degree.is_some(), "degree"),
+            (no_noise_adaptation, "no_noise_adaptation"),
+        ] {
+            if given {
+                unused.push(name);
+            }
+        }
+    }
+    if !unused.is_empty() {
+        let name = ESTIMATORS
+            .iter()
+            .find(|(_, e)| *e == estimator)
+            .map_or("?", |(name, _)| *name);
+        return Err(PyValueError::new_err(format!(
+            "options that estimator '{name}' would not use: {}",
+            unused.join(", ")
+        )));
+    }
+    let mut options = CurvatureOptions::default().with_estimator(estimator);
     options.cubic_fit.rings = rings.unwrap_or(options.cubic_fit.rings);
     let jet_fit = &mut options.jet_fit;
     jet_fit.radius = radius.unwrap_or(jet_fit.radius);

@@ -31,14 +31,14 @@ use crate::mesh::mesh_from_arrays;
 ///   run when the curvature estimate finds the surface noisy; giving a number always runs
 ///   them) and step size relative to the squared mean edge length (default 1).
 /// - `crease_angle`: damp the smoothing across curvature jumps of about this angle, in
-///   degrees (default 17; 0 with `no_twicing` is HPW's plain smoothing).
+///   degrees (default 0.3 rad, about 17.2; 0 with `no_twicing` is HPW's plain smoothing).
 /// - `direction_support`: neighbourhood weight in the shape operator's principal directions
 ///   (default 0.5; 0 is the paper's operator).
 /// - `fair`: spatial fairing, largest displacement as a fraction of the diagonal (off).
 /// - `pre_smooth`: steps of implicit mean-curvature flow before anything else (off).
 /// - `estimator`: "jet-fit" (default), "shape-operator" or "cubic-fit".
 /// - `radius`: radius of the jet fit's disc, in sample spacings (default 2.5).
-/// - `rings`: rings of YBS's cubic fit (1 to 4); selects the cubic fit unless `estimator`
+/// - `rings`: rings of YBS's cubic fit (1 to 8); selects the cubic fit unless `estimator`
 ///   says otherwise.
 /// - `mask`: one diffusion factor per vertex (inhomogeneous smoothing); `mask_spheres`:
 ///   `(x, y, z, r, factor)` tuples and `mask_boxes`: `(x0, y0, z0, x1, y1, z1, factor)`

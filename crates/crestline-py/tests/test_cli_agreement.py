@@ -124,3 +124,21 @@ def test_curvature_matches_cli(cli, tmp_path, estimator):
     for name in ("dir_max", "dir_min"):
         want = np.array([[float(r[f"{name}_{c}"]) for c in "xyz"] for r in rows])
         np.testing.assert_allclose(fields[name], want, rtol=1e-12, atol=1e-12, err_msg=name)
+
+
+def test_rings_select_the_cubic_fit_as_on_the_command_line(cli, tmp_path):
+    path = case_path("ovoid/irr20k")
+    out = tmp_path / "fields.csv"
+    subprocess.run(
+        [str(cli), "curvature", str(path), "-o", str(out), "--csv", "--rings", "2"],
+        check=True,
+        capture_output=True,
+    )
+    with open(out) as f:
+        want = np.array([float(r["k_max"]) for r in csv.DictReader(f)])
+    vertices, faces = crestline.read_mesh(path)
+    np.testing.assert_allclose(
+        crestline.curvature(vertices, faces, rings=2)["k_max"], want, rtol=1e-12, atol=1e-12
+    )
+    # The jet fit gives other values: rings was not ignored.
+    assert np.abs(crestline.curvature(vertices, faces)["k_max"] - want).max() > 1e-6

@@ -175,3 +175,42 @@ def test_bad_files(tmp_path):
         lines.write(tmp_path / "lines.txt")
     with pytest.raises(OSError):
         lines.write(tmp_path / "no" / "such" / "folder" / "lines.obj")
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"estimator": "jet-fit", "rings": 2},
+        {"estimator": "shape-operator", "radius": 3.0},
+        {"estimator": "cubic-fit", "degree": 3},
+        {"rings": 2, "no_noise_adaptation": True},
+    ],
+)
+def test_options_of_another_estimator_are_refused(fandisk, options):
+    with pytest.raises(ValueError, match="would not use"):
+        crestline.curvature(*fandisk, **options)
+
+
+@pytest.mark.parametrize(
+    "options, what",
+    [
+        ({"threshold": float("nan")}, "threshold"),
+        ({"threshold": -1.0}, "threshold"),
+        ({"min_length": -0.01}, "minimum line length"),
+        ({"fair": float("inf")}, "fairing tolerance"),
+        ({"smooth_time": 0.0}, "smoothing time step"),
+        ({"crease_angle": 1000.0}, "crease angle"),
+        ({"crease_angle": -5.0}, "-5"),
+    ],
+)
+def test_extract_options_out_of_range_are_refused(fandisk, options, what):
+    with pytest.raises(ValueError, match=what):
+        crestline.extract(*fandisk, **options)
+
+
+def test_triangles_given_twice_are_dropped(fandisk):
+    vertices, faces = fandisk
+    once = crestline.extract(vertices, faces)
+    twice = crestline.extract(vertices, np.vstack([faces, faces[:, ::-1]]))
+    assert len(twice) == len(once)
+    np.testing.assert_array_equal(twice.points, once.points)

@@ -98,8 +98,8 @@ pub struct Args {
     #[arg(long)]
     pub no_twicing: bool,
     /// Crease-aware smoothing (HPW and YBS): damp the smoothing across edges where the
-    /// curvature jumps by about this dihedral angle, in degrees, 0 to 180 (default 17; 0 with
-    /// --no-twicing gives HPW's plain smoothing).
+    /// curvature jumps by about this dihedral angle, in degrees, 0 to 180 (default 0.3 rad,
+    /// about 17.2; 0 with --no-twicing gives HPW's plain smoothing).
     #[arg(long, value_name = "DEGREES", value_parser = degrees)]
     pub crease_angle: Option<f64>,
     /// Sharp creases: `auto` (default: edges above the gap in the histogram of dihedral

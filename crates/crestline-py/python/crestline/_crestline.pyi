@@ -114,13 +114,13 @@ def extract(
     - min_length: fraction of the bounding-box diagonal (default 0.01).
     - smooth_steps (default 2, run on noisy surfaces; a number always runs them), smooth_time
       (default 1, relative to the squared mean edge length).
-    - crease_angle: degrees (default 17; 0 with no_twicing is HPW's plain smoothing).
+    - crease_angle: degrees (default 0.3 rad, about 17.2; 0 with no_twicing is HPW's plain smoothing).
     - direction_support: default 0.5 (0 is the paper's shape operator).
     - fair: fairing tolerance as a fraction of the diagonal (off).
     - pre_smooth: mean-curvature-flow steps first (off).
     - estimator: "jet-fit" (default), "shape-operator" or "cubic-fit".
     - radius: the jet fit's disc radius in sample spacings (default 2.5).
-    - rings: the cubic fit's k-ring (1 to 4); selects the cubic fit unless estimator is given.
+    - rings: the cubic fit's k-ring (1 to 8); selects the cubic fit unless estimator is given.
     - mask, mask_spheres, mask_boxes: per-vertex diffusion factors and regions scaling them.
     - no_gaps: turn off YBS's gap jumping.
     - keep_orientation: keep the winding (default: closed components facing inward are reversed).
@@ -135,7 +135,7 @@ def extract(
 def curvature(
     vertices: npt.ArrayLike,
     faces: npt.ArrayLike,
-    estimator: Estimator = "jet-fit",
+    estimator: Optional[Estimator] = None,
     *,
     rings: Optional[int] = None,
     radius: Optional[float] = None,
@@ -149,7 +149,9 @@ def curvature(
     One row per vertex given; vertices at the same position are estimated as one (welded)
     unless no_weld.
 
-    Defaults as ``crestline curvature``: rings 1, radius 2.5, degree 3.
+    Defaults as ``crestline curvature``: the jet fit (the cubic fit when rings is given),
+    rings 1, radius 2.5, degree 4. An option of another estimator than the one that runs
+    raises ValueError.
     """
 
 def simplify(

@@ -245,6 +245,7 @@ pub fn extract_with_progress(
     options: &ExtractOptions,
     progress: &mut dyn FnMut(Stage, Option<Duration>),
 ) -> Result<Extraction> {
+    options.validate()?;
     mesh.check_coordinate_range()?;
     let mut stats = ExtractStats {
         triangles: mesh.num_faces(),

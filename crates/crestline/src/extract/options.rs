@@ -2,6 +2,7 @@
 //! parts every method shares.
 
 use crate::curvature::{CurvatureOptions, Estimator};
+use crate::error::{Error, Result};
 use crate::lines::crease::CreaseOptions;
 use crate::lines::fair::Fairing;
 pub use crate::lines::filter::HPW_DEFAULT_THRESHOLD;
@@ -309,10 +310,107 @@ impl ExtractOptions {
         let automatic = self.pipeline.automatic_threshold();
         self.with_threshold(automatic)
     }
+
+    /// Checks the values that every run reads, whether or not the stage that uses them runs
+    /// on a given mesh (the smoothing runs only on noisy meshes by default): a fixed
+    /// threshold and a minimum length that are finite and not negative (a knee search's floor
+    /// not NaN nor +∞), a fairing tolerance that is finite
+    /// and not negative, a smoothing time step that is positive and finite and a crease angle
+    /// from 0 to π. [`crate::extract()`] checks them first.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the first value out of range.
+    pub fn validate(&self) -> Result<()> {
+        let not_negative = |value: f64| value.is_finite() && value >= 0.0;
+        // A knee search's floor may be −∞ (no floor, the saliency's).
+        let (threshold, fine) = match *self.pipeline.threshold() {
+            Threshold::Fixed(value) => (value, not_negative(value)),
+            Threshold::Knee { floor, .. } => (floor, floor < f64::INFINITY),
+        };
+        let checks = [
+            (fine, "threshold", threshold),
+            (
+                not_negative(self.min_length),
+                "minimum line length",
+                self.min_length,
+            ),
+            (
+                not_negative(self.fairing.tolerance),
+                "fairing tolerance",
+                self.fairing.tolerance,
+            ),
+            (
+                self.smoothing.time_step.is_finite() && self.smoothing.time_step > 0.0,
+                "smoothing time step",
+                self.smoothing.time_step,
+            ),
+        ];
+        for (fine, what, value) in checks {
+            if !fine {
+                return Err(Error::InvalidInput(format!(
+                    "{what} must be a finite number{}, got {value}",
+                    if what == "smoothing time step" {
+                        " above 0"
+                    } else {
+                        " of at least 0"
+                    }
+                )));
+            }
+        }
+        let angle = self.smoothing.crease_angle;
+        if !(angle.is_finite() && (0.0..=std::f64::consts::PI).contains(&angle)) {
+            return Err(Error::InvalidInput(format!(
+                "crease angle must be from 0 to 180 degrees, got {} degrees",
+                angle.to_degrees()
+            )));
+        }
+        Ok(())
+    }
 }
 
 impl Default for ExtractOptions {
     fn default() -> Self {
         Self::for_method(Method::Hpw)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_out_of_range_are_named_before_anything_runs() {
+        assert!(ExtractOptions::default().validate().is_ok());
+        for method in [Method::Hpw, Method::Ybs, Method::Saliency] {
+            assert!(ExtractOptions::for_method(method).validate().is_ok());
+        }
+        type Spoil = fn(&mut ExtractOptions);
+        let bad: [(Spoil, &str); 7] = [
+            (|o| o.min_length = -0.1, "minimum line length"),
+            (|o| o.min_length = f64::NAN, "minimum line length"),
+            (|o| o.fairing.tolerance = f64::INFINITY, "fairing tolerance"),
+            (|o| o.smoothing.time_step = 0.0, "smoothing time step"),
+            (|o| o.smoothing.crease_angle = 4.0, "crease angle"),
+            (
+                |o| o.pipeline.set_threshold(Threshold::Fixed(f64::NAN)),
+                "threshold",
+            ),
+            (
+                |o| o.pipeline.set_threshold(Threshold::Fixed(-1.0)),
+                "threshold",
+            ),
+        ];
+        for (spoil, what) in bad {
+            let mut options = ExtractOptions::default();
+            spoil(&mut options);
+            let e = options.validate().unwrap_err().to_string();
+            assert!(e.contains(what), "{e}");
+            // The mesh is never looked at: on a sphere, which is not smoothed either.
+            let sphere = crate::shapes::icosphere(1.0, 2);
+            assert!(
+                crate::extract::extract(&sphere, &options).is_err(),
+                "{what}"
+            );
+        }
     }
 }

@@ -736,7 +736,10 @@ impl Context<'_> {
         let n1 = (n0 - u * first.coef[1] - w * first.coef[2])
             .try_normalize(1e-300)
             .unwrap_or(n0);
-        let Some(second) = self.fit_in_frame(p, n1, r, s, self.blend) else {
+        // Pieces of flat triangles are off a curved surface by the chord error, not by noise:
+        // no residual measured there.
+        let residual = self.residual && !on_triangles;
+        let Some(second) = self.fit_in_frame(p, n1, r, s, self.blend, residual) else {
             return fallback(n1);
         };
         let (second, other) = if on_triangles {
@@ -794,7 +797,8 @@ impl Context<'_> {
             self.vertex_samples(p, r, s)
         };
         let n0 = normal.try_normalize(1e-300)?;
-        Some((n0, self.fit_in_frame(p, n0, r, s, None)))
+        // Only its coefficients are read: no residual.
+        Some((n0, self.fit_in_frame(p, n0, r, s, None, false)))
     }
 
     /// Puts the disc's vertices into `s.points` and returns the first normal: the
@@ -894,6 +898,7 @@ impl Context<'_> {
 
     /// Weighted least-squares fit of the disc's heights over the tangent plane of `normal`.
     /// With `blend`, a blend of cubic and quartic ([`Blend`]) where the disc carries both.
+    /// The residual is measured only when `residual` (the blend never measures it).
     fn fit_in_frame(
         &self,
         p: Vec3,
@@ -901,6 +906,7 @@ impl Context<'_> {
         r: f64,
         s: &mut Scratch,
         blend: Option<Blend>,
+        residual: bool,
     ) -> Option<Fit> {
         self.frame_samples(p, normal, r, s);
         let count = s.samples.len();
@@ -915,13 +921,13 @@ impl Context<'_> {
         // a lower one when the normal equations cannot be factored.
         let mut fit = None;
         if count >= 20 && self.options.degree >= 4 {
-            fit = solve::<15>(&s.samples, 4, self.residual);
+            fit = solve::<15>(&s.samples, 4, residual);
         }
         if fit.is_none() && count >= 13 {
-            fit = solve::<10>(&s.samples, 3, self.residual);
+            fit = solve::<10>(&s.samples, 3, residual);
         }
         if fit.is_none() && count >= 7 {
-            fit = solve::<6>(&s.samples, 2, self.residual);
+            fit = solve::<6>(&s.samples, 2, residual);
         }
         fit
     }

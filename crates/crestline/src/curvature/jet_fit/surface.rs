@@ -27,7 +27,9 @@
 //! that are not creases, keeping those that come within the radius of the centre. Each is
 //! cut into m² congruent triangles (m = ⌈4 L / r⌉ for its longest edge L, at most 64), and
 //! each piece is one sample at its centroid with its area as weight and the linear
-//! interpolation of its corners' simulated noise.
+//! interpolation of its corners' simulated noise. Only the pieces near the disc are looked
+//! at ([`cut_triangle`]): the 4096 pieces of each of the thousands of slivers of a fan that
+//! reach a disc were all tested before (a capped cylinder of 2048 segments took 47 s, 9 now).
 
 #[cfg(doc)]
 use super::JetFitOptions;
@@ -136,49 +138,98 @@ impl Context<'_> {
         }
         s.points.clear();
         let mut normal = Vec3::zeros();
-        for &f in &s.faces {
-            let corners = self.mesh.triangle(f as usize);
-            let [a, b, c] = corners;
-            let area_vector = (b - a).cross(&(c - a)) / 2.0;
-            let longest = [(b - a), (c - b), (a - c)]
-                .iter()
-                .map(|d| d.norm())
-                .fold(0.0, f64::max);
-            let m = ((PIECES_PER_RADIUS * longest / r).ceil() as usize).clamp(1, MAX_PIECES);
-            let piece = area_vector.norm() / (m * m) as f64;
-            let unit = area_vector.try_normalize(0.0).unwrap_or_else(Vec3::zeros);
-            let noise =
-                self.mesh.faces()[f as usize].map(|q| simulated_noise(self.keys[q as usize]));
-            let inv = 1.0 / m as f64;
-            // Piece centroids in barycentric coordinates (u, w) on b and c: the m² pieces of
-            // the regular subdivision, upright ones at (i + 1/3, j + 1/3) / m, inverted ones
-            // at (i + 2/3, j + 2/3) / m.
-            for i in 0..m {
-                for j in 0..m - i {
-                    let offsets: &[f64] = if i + j + 1 < m {
-                        &[1.0 / 3.0, 2.0 / 3.0]
-                    } else {
-                        &[1.0 / 3.0]
-                    };
-                    for &o in offsets {
-                        let (u, w) = ((i as f64 + o) * inv, (j as f64 + o) * inv);
-                        let x = a + (b - a) * u + (c - a) * w;
-                        let d2 = (x - p).norm_squared() / r2;
-                        if d2 >= 1.0 {
-                            continue;
-                        }
-                        normal += unit * (piece * kernel(d2));
-                        s.points.push(SurfacePoint {
-                            position: x,
-                            area: piece,
-                            noise: (1.0 - u - w) * noise[0] + u * noise[1] + w * noise[2],
-                        });
-                    }
-                }
-            }
+        for k in 0..s.faces.len() {
+            let f = s.faces[k] as usize;
+            let noise = self.mesh.faces()[f].map(|q| simulated_noise(self.keys[q as usize]));
+            normal += cut_triangle(self.mesh.triangle(f), noise, p, r, &mut s.points);
         }
         normal
     }
+}
+
+/// Pushes onto `points` the pieces of the triangle `corners` (simulated noise `noise` at its
+/// corners) whose centroids lie within `r` of `p` (module docs, *How*), and returns their
+/// kernel-weighted area normal.
+///
+/// The pieces are those of the regular subdivision into m² triangles, at their centroids
+/// `a + u (b − a) + w (c − a)`: in row i (u = (i + o) / m, o = 1/3 for the upright pieces
+/// and 2/3 for the inverted ones) the centroids lie on a line along `c − a`, and only the
+/// stretch of it within the ball is visited. The pieces and their order are those of all
+/// m² tested in turn, at a cost of about m plus the pieces kept: a disc on a fan of
+/// thousands of slivers used to test millions.
+fn cut_triangle(
+    corners: [Vec3; 3],
+    noise: [f64; 3],
+    p: Vec3,
+    r: f64,
+    points: &mut Vec<SurfacePoint>,
+) -> Vec3 {
+    let r2 = r * r;
+    let [a, b, c] = corners;
+    let area_vector = (b - a).cross(&(c - a)) / 2.0;
+    let longest = [(b - a), (c - b), (a - c)]
+        .iter()
+        .map(|d| d.norm())
+        .fold(0.0, f64::max);
+    let m = ((PIECES_PER_RADIUS * longest / r).ceil() as usize).clamp(1, MAX_PIECES);
+    let piece = area_vector.norm() / (m * m) as f64;
+    let unit = area_vector.try_normalize(0.0).unwrap_or_else(Vec3::zeros);
+    let inv = 1.0 / m as f64;
+    let along = c - a;
+    let along2 = along.norm_squared();
+    let mut normal = Vec3::zeros();
+    for i in 0..m {
+        // The pieces j of row i whose centroids can be within r: w = (j + o) / m within
+        // `reach` of the foot of p on the row's line, for either offset.
+        let rows = m - i;
+        let mut columns = rows..0;
+        for o in [1.0 / 3.0, 2.0 / 3.0] {
+            let start = a + (b - a) * ((i as f64 + o) * inv);
+            let to_p = p - start;
+            let (foot, gap2) = if along2 > 0.0 {
+                let foot = to_p.dot(&along) / along2;
+                (foot, (to_p - along * foot).norm_squared())
+            } else {
+                (0.0, to_p.norm_squared())
+            };
+            if gap2 >= r2 || !foot.is_finite() {
+                continue;
+            }
+            let reach = if along2 > 0.0 {
+                ((r2 - gap2) / along2).sqrt()
+            } else {
+                f64::INFINITY
+            };
+            // (j + o) / m in [foot − reach, foot + reach], with a margin of one piece.
+            let low = ((foot - reach) * m as f64 - o).floor() - 1.0;
+            let high = ((foot + reach) * m as f64 - o).ceil() + 1.0;
+            let low = low.clamp(0.0, rows as f64) as usize;
+            let high = (high.max(0.0) as usize).min(rows - 1) + 1;
+            columns = columns.start.min(low)..columns.end.max(high);
+        }
+        for j in columns {
+            let offsets: &[f64] = if i + j + 1 < m {
+                &[1.0 / 3.0, 2.0 / 3.0]
+            } else {
+                &[1.0 / 3.0]
+            };
+            for &o in offsets {
+                let (u, w) = ((i as f64 + o) * inv, (j as f64 + o) * inv);
+                let x = a + (b - a) * u + along * w;
+                let d2 = (x - p).norm_squared() / r2;
+                if d2 >= 1.0 {
+                    continue;
+                }
+                normal += unit * (piece * kernel(d2));
+                points.push(SurfacePoint {
+                    position: x,
+                    area: piece,
+                    noise: (1.0 - u - w) * noise[0] + u * noise[1] + w * noise[2],
+                });
+            }
+        }
+    }
+    normal
 }
 
 /// A point the fit samples: a vertex with its barycentric area, or a piece of a triangle.
@@ -209,6 +260,72 @@ impl SurfacePoint {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`cut_triangle`] as it was written first: every one of the m² pieces tested.
+    fn every_piece(corners: [Vec3; 3], p: Vec3, r: f64) -> Vec<[f64; 4]> {
+        let [a, b, c] = corners;
+        let longest = [(b - a), (c - b), (a - c)]
+            .iter()
+            .map(|d| d.norm())
+            .fold(0.0, f64::max);
+        let m = ((PIECES_PER_RADIUS * longest / r).ceil() as usize).clamp(1, MAX_PIECES);
+        let inv = 1.0 / m as f64;
+        let mut kept = Vec::new();
+        for i in 0..m {
+            for j in 0..m - i {
+                let offsets: &[f64] = if i + j + 1 < m {
+                    &[1.0 / 3.0, 2.0 / 3.0]
+                } else {
+                    &[1.0 / 3.0]
+                };
+                for &o in offsets {
+                    let (u, w) = ((i as f64 + o) * inv, (j as f64 + o) * inv);
+                    let x = a + (b - a) * u + (c - a) * w;
+                    if (x - p).norm_squared() / (r * r) < 1.0 {
+                        kept.push([x.x, x.y, x.z, u]);
+                    }
+                }
+            }
+        }
+        kept
+    }
+
+    #[test]
+    fn only_the_pieces_near_the_disc_are_visited_and_none_is_missed() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for trial in 0..400 {
+            let mut numbers = [0.0; 16];
+            numbers.iter_mut().for_each(|x| *x = uniform());
+            let point = |k: usize, scale: f64| {
+                Vec3::new(numbers[k] - 0.5, numbers[k + 1] - 0.5, numbers[k + 2] - 0.5) * scale
+            };
+            // Well-shaped triangles, slivers of fans (two corners close) and needles, with
+            // discs from much smaller than the triangle to larger than it.
+            let a = point(0, 2.0);
+            let b = a + point(3, 2.0);
+            let c = match trial % 3 {
+                0 => a + point(6, 2.0),
+                1 => b + point(6, 0.01),
+                _ => a + (b - a) * numbers[9] + point(6, 1e-4),
+            };
+            let r = 0.02 + 1.5 * numbers[10];
+            let p = a + (b - a) * numbers[11] + (c - a) * (0.5 * numbers[12]) + point(13, r);
+            let mut points = Vec::new();
+            cut_triangle([a, b, c], [0.0; 3], p, r, &mut points);
+            let visited: Vec<[f64; 3]> = points.iter().map(|q| q.position.into()).collect();
+            let all: Vec<[f64; 3]> = every_piece([a, b, c], p, r)
+                .iter()
+                .map(|x| [x[0], x[1], x[2]])
+                .collect();
+            assert_eq!(visited, all, "trial {trial}");
+        }
+    }
 
     #[test]
     fn rows_of_points_are_strips_and_discs_are_not() {
