@@ -45,7 +45,7 @@ use std::collections::BinaryHeap;
 
 use crate::error::{Error, Result};
 use crate::lines::{FeatureLine, FeatureLines, SurfacePoint};
-use crate::mesh::{TriMesh, Vec3, mean_edge_length};
+use crate::mesh::{BoundingBox, TriMesh, Vec3, mean_edge_length};
 use crate::spatial::{FaceGrid, closest_point_on_segment};
 
 /// Options of [`feature_distance`].
@@ -122,8 +122,10 @@ pub struct FeatureDistance {
 ///
 /// # Errors
 /// [`Error::InvalidInput`] when a line point is not finite, a line's `locations` are neither
-/// empty nor one per point, a location refers to an element the mesh does not have, or
-/// `options.sample_spacing` is not positive.
+/// empty nor one per point, a location refers to an element the mesh does not have, a point
+/// lies further than [`LINE_REACH`] diagonals outside the mesh's bounding box or from its
+/// location on the mesh (lines of another mesh), or `options.sample_spacing` is not
+/// positive.
 pub fn feature_distance(
     mesh: &TriMesh,
     lines: &FeatureLines,
@@ -153,8 +155,9 @@ pub fn seed_vertices(
     let mut seed = vec![f64::INFINITY; mesh.num_vertices()];
     let mut grid: Option<FaceGrid<'_>> = None;
     let spacing = options.sample_spacing * mean_edge_length(mesh);
+    let bounds = mesh.bounding_box();
     for (index, line) in lines.lines.iter().enumerate() {
-        validate_line(mesh, index, line)?;
+        validate_line(mesh, &bounds, index, line)?;
         if line.points.is_empty() || mesh.num_faces() == 0 {
             continue;
         }
@@ -332,7 +335,12 @@ fn summarize(mesh: &TriMesh, vertex: Vec<f64>, seeded_vertices: usize) -> Featur
     }
 }
 
-fn validate_line(mesh: &TriMesh, index: usize, line: &FeatureLine) -> Result<()> {
+fn validate_line(
+    mesh: &TriMesh,
+    bounds: &BoundingBox,
+    index: usize,
+    line: &FeatureLine,
+) -> Result<()> {
     if let Some(i) = line
         .points
         .iter()
@@ -340,6 +348,33 @@ fn validate_line(mesh: &TriMesh, index: usize, line: &FeatureLine) -> Result<()>
     {
         return Err(Error::InvalidInput(format!(
             "line {index}: point {i} has a non-finite coordinate"
+        )));
+    }
+    // Lines of this mesh lie on it (fairing moves them by a fraction of a percent of the
+    // diagonal): a point far outside its box belongs to another mesh, or to this one in
+    // other units or another place.
+    let diagonal = bounds.diagonal();
+    let outside = |p: &[f64; 3]| -> f64 {
+        let d: [f64; 3] =
+            std::array::from_fn(|k| (bounds.min[k] - p[k]).max(p[k] - bounds.max[k]).max(0.0));
+        // Scaled, so that a point at 1e308 does not overflow to infinity.
+        let largest = d.iter().fold(0.0, |m: f64, &x| m.max(x));
+        if largest > 0.0 {
+            largest * d.iter().map(|x| (x / largest).powi(2)).sum::<f64>().sqrt()
+        } else {
+            0.0
+        }
+    };
+    if let Some((i, d)) = line
+        .points
+        .iter()
+        .map(|p| outside(&(*p).into()))
+        .enumerate()
+        .find(|&(_, d)| d.is_nan() || d > LINE_REACH * diagonal)
+    {
+        return Err(Error::InvalidInput(format!(
+            "line {index}: point {i} is {d:.6e} outside the mesh's bounding box (diagonal \
+             {diagonal:.6e}): the lines belong to another mesh"
         )));
     }
     if line.locations.is_empty() {
@@ -365,8 +400,40 @@ fn validate_line(mesh: &TriMesh, index: usize, line: &FeatureLine) -> Result<()>
             )));
         }
     }
+    // Each point must be where its location is on this mesh.
+    for (i, loc) in line.locations.iter().enumerate() {
+        let point = line.points[i];
+        let off = match *loc {
+            SurfacePoint::Edge { edge, t } => {
+                let [a, b] = topo.edge(edge).map(|v| mesh.position(v));
+                (a + (b - a) * t - point).norm()
+            }
+            SurfacePoint::Face { face } => {
+                let corners = mesh.triangle(face as usize);
+                (crate::spatial::closest_point_on_triangle(point, corners) - point).norm()
+            }
+            SurfacePoint::Vertex(v) => (mesh.position(v) - point).norm(),
+        };
+        if off.is_nan() || off > LINE_REACH * diagonal {
+            return Err(Error::InvalidInput(format!(
+                "line {index}: point {i} is {off:.6e} from its place on this mesh ({}): the \
+                 lines were traced on another mesh (or on this one welded or turned otherwise)",
+                match *loc {
+                    SurfacePoint::Edge { edge, .. } => format!("edge {edge}"),
+                    SurfacePoint::Face { face } => format!("triangle {face}"),
+                    SurfacePoint::Vertex(v) => format!("vertex {v}"),
+                }
+            )));
+        }
+    }
     Ok(())
 }
+
+/// How far (as a fraction of the mesh's bounding-box diagonal) a line point may lie outside
+/// the mesh's box, or a traced point from its place on the mesh, before the lines are taken
+/// for another mesh's. Fairing moves points by far less (its tolerance is a fraction of a
+/// percent of the diagonal).
+pub const LINE_REACH: f64 = 0.05;
 
 /// The segments of a line as (start, end, start index, end index); a single point is a
 /// segment of length zero and a closed line gets its closing segment.
@@ -569,5 +636,36 @@ mod tests {
         assert!(e.to_string().contains("location 1"), "{e}");
         lines.lines[0].locations.pop();
         assert!(feature_distance(&mesh, &lines, &Default::default()).is_err());
+    }
+
+    #[test]
+    fn lines_of_another_mesh_are_reported() {
+        let mesh = shapes::icosphere(1.0, 2);
+        // Far outside the mesh, up to the largest finite coordinates: an error at once
+        // (sampling a segment 1e308 long ran for minutes).
+        for far in [3.0, 1e6, 1e308] {
+            let lines = polyline(
+                vec![Vec3::new(0.0, 0.0, 1.0), Vec3::new(far, 0.0, 1.0)],
+                false,
+            );
+            let e = feature_distance(&mesh, &lines, &Default::default()).unwrap_err();
+            assert!(e.to_string().contains("another mesh"), "{e}");
+            assert!(!e.to_string().contains("inf"), "{e}");
+        }
+        // Traced lines whose points are not where their locations are on this mesh: the
+        // vertices moved (the same mesh elsewhere), or another mesh with as many elements.
+        let on_vertex = |v: u32, at: Vec3| {
+            let mut lines = polyline(vec![at, mesh.position(v)], false);
+            lines.lines[0].locations = vec![SurfacePoint::Vertex(0), SurfacePoint::Vertex(v)];
+            lines
+        };
+        let here = on_vertex(5, mesh.position(0));
+        assert!(feature_distance(&mesh, &here, &Default::default()).is_ok());
+        let there = on_vertex(5, mesh.position(7));
+        let e = feature_distance(&mesh, &there, &Default::default()).unwrap_err();
+        assert!(e.to_string().contains("traced on another mesh"), "{e}");
+        // Points a little off (fairing) are fine.
+        let faired = on_vertex(5, mesh.position(0) + Vec3::new(0.01, 0.0, 0.0));
+        assert!(feature_distance(&mesh, &faired, &Default::default()).is_ok());
     }
 }

@@ -42,7 +42,11 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
         .and_then(|rest| rest.first_chunk::<4>())
         .map(|count| u32::from_le_bytes(*count) as usize);
     let expected_size = declared.map(|n| PREAMBLE_BYTES as u64 + RECORD_BYTES as u64 * n as u64);
-    let starts_with_solid = bytes.trim_ascii_start().starts_with(b"solid");
+    // Keywords are case-insensitive (`SOLID` from some exporters).
+    let starts_with_solid = bytes
+        .trim_ascii_start()
+        .get(..5)
+        .is_some_and(|word| word.eq_ignore_ascii_case(b"solid"));
     // Ascii STL is plain text; binary records nearly always hold zero bytes (attribute
     // counts, small coordinates). Used only to word an error message.
     let looks_binary = bytes.contains(&0);
@@ -302,6 +306,16 @@ mod tests {
         let m = parse_bytes(ASCII.as_bytes()).unwrap();
         assert_eq!(m.positions.len(), 4);
         assert_eq!(m.faces, vec![[0, 1, 2], [0, 2, 3]]);
+    }
+
+    #[test]
+    fn uppercase_ascii_is_ascii() {
+        // `SOLID` was taken for a binary header ("declares 1347374924 triangles").
+        let upper = ASCII.to_ascii_uppercase();
+        let lower = parse_bytes(ASCII.as_bytes()).unwrap();
+        let upper = parse_bytes(upper.as_bytes()).unwrap();
+        assert_eq!(upper.positions, lower.positions);
+        assert_eq!(upper.faces, lower.faces);
     }
 
     #[test]

@@ -299,7 +299,7 @@ fn run_steps(
 /// The relative residual to which the steps on the simulated noise are solved (where the
 /// solver's own tolerance is not looser). Only its median magnitude is read, which moves by
 /// about as much: measured on igea and horse ×16, the extremality noise moves by 1e-4 of
-/// itself against the default 1e-5 and the lines stay the same, for 43 and 48% fewer
+/// itself against the default 1e-5 and the lines' points stay the same, for 43 and 48% fewer
 /// iterations on those fields (16 and 20% fewer in all).
 pub const NOISE_TOLERANCE: f64 = 1e-3;
 
