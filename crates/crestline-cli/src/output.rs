@@ -36,7 +36,22 @@ pub fn to_path_or_stdout(
 /// Refuses to write `output` over one of `inputs` (the same file by any path or link):
 /// the command's result (feature lines, a picture, a table) would replace the file it was
 /// made from. `subdivide` and `simplify`, whose output is a mesh again, may write in place.
+/// Also refuses an output in a folder that does not exist, before any work is done (on a
+/// large mesh the error came after minutes of work).
 pub fn refuse_overwriting_inputs(output: &Path, inputs: &[Option<&Path>]) -> Result<()> {
+    if !is_dash(output) {
+        let folder = output
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        if !folder.is_dir() {
+            bail!(
+                "{}: the folder {} does not exist",
+                output.display(),
+                folder.display()
+            );
+        }
+    }
     for input in inputs.iter().flatten() {
         if !is_dash(output) && !is_dash(input) && same_file(output, input) {
             bail!(

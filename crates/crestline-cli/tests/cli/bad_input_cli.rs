@@ -385,3 +385,25 @@ fn a_closed_standard_output_ends_the_run_quietly() {
     assert_eq!(run.status.code(), Some(141), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+#[test]
+fn an_output_folder_that_does_not_exist_is_refused_before_the_work() {
+    let fandisk = shared_meshes_dir().join("fandisk.obj");
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing");
+    for (command, option) in [("extract", "-o"), ("extract", "--png"), ("curvature", "-o")] {
+        let out = missing.join("out.png");
+        let mut args = vec![command, s(&fandisk)];
+        if option != "-o" {
+            args.extend(["-o", s(dir.path())]);
+        }
+        args.extend([option, s(&out)]);
+        let run = crestline(&args);
+        let stderr = stderr(&run);
+        assert!(!run.status.success(), "{command} {option}");
+        assert!(stderr.contains("does not exist"), "{stderr}");
+        // Refused before the mesh was read: no summary of the work.
+        assert!(!stderr.contains("lines ("), "{stderr}");
+        assert!(!missing.exists());
+    }
+}
