@@ -33,12 +33,12 @@ pub fn to_path_or_stdout(
     }
 }
 
-/// Refuses to write `output` over one of `inputs` (the same file by any path or link):
-/// the command's result (feature lines, a picture, a table) would replace the file it was
-/// made from. `subdivide` and `simplify`, whose output is a mesh again, may write in place.
-/// Also refuses an output in a folder that does not exist, before any work is done (on a
-/// large mesh the error came after minutes of work).
-pub fn refuse_overwriting_inputs(output: &Path, inputs: &[Option<&Path>]) -> Result<()> {
+/// Checks an output before the work. Refuses an output in a folder that does not exist (on a
+/// large mesh the error came after minutes of work), and one that is one of `inputs` (the
+/// same file by any path or link): the command's result (feature lines, a picture, a table)
+/// would replace the file it was made from. `subdivide` and `simplify`, whose output is a
+/// mesh again, may write in place.
+pub fn check_output(output: &Path, inputs: &[Option<&Path>]) -> Result<()> {
     if !is_dash(output) {
         let folder = output
             .parent()

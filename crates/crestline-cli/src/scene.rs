@@ -162,12 +162,9 @@ pub struct Scene {
 }
 
 impl SceneArgs {
-    /// Refuses an `output` that is the mesh or the lines file read.
-    pub fn refuse_overwriting_inputs(&self, output: &Path) -> Result<()> {
-        crate::output::refuse_overwriting_inputs(
-            output,
-            &[self.input.mesh.as_deref(), self.lines.as_deref()],
-        )
+    /// [`crate::output::check_output`] of `output` against the mesh and the lines file read.
+    pub fn check_output(&self, output: &Path) -> Result<()> {
+        crate::output::check_output(output, &[self.input.mesh.as_deref(), self.lines.as_deref()])
     }
 
     /// Loads the mesh (welded and oriented as for every command) and the lines and computes

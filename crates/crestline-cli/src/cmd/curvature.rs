@@ -12,9 +12,7 @@ use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
 use crate::input::{OrientedMeshArgs, is_dash};
-use crate::output::{
-    PlyEncodingArg, display, refuse_overwriting_inputs, to_path_or_stdout, to_stdout,
-};
+use crate::output::{PlyEncodingArg, check_output, display, to_path_or_stdout, to_stdout};
 use crate::progress::{self, note};
 
 /// The estimator.
@@ -186,7 +184,7 @@ fn columns(c: &Curvature) -> Vec<(&'static str, Vec<f64>)> {
 pub fn run(args: Args) -> Result<()> {
     let options = curvature_options(&args)?;
     let estimator = options.estimator;
-    refuse_overwriting_inputs(&args.output, &[args.input.path()])?;
+    check_output(&args.output, &[args.input.path()])?;
     let (prepared, name) = args.input.load_prepared()?;
     let mesh = &prepared.mesh;
     // The papers' estimators read one star or ring and do not split at creases.

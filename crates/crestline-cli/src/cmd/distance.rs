@@ -8,7 +8,7 @@ use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::io::{Format, PlyWriter, VertexProperty};
 
 use crate::input::{LinesArg, OrientedMeshArgs, is_dash, load_lines};
-use crate::output::{PlyEncodingArg, display, refuse_overwriting_inputs, to_stdout};
+use crate::output::{PlyEncodingArg, check_output, display, to_stdout};
 use crate::progress::{self, note};
 
 /// Arguments of `crestline distance`.
@@ -39,7 +39,7 @@ pub fn run(args: Args) -> Result<()> {
             args.output.display()
         );
     }
-    refuse_overwriting_inputs(&args.output, &[args.input.path(), args.lines.path()])?;
+    check_output(&args.output, &[args.input.path(), args.lines.path()])?;
     let (prepared, name) = args.input.load_prepared()?;
     let mesh = &prepared.mesh;
     let lines = progress::step("feature lines", || load_lines(args.lines.path(), mesh))?;

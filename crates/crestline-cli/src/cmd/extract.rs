@@ -23,7 +23,7 @@ use indicatif::ProgressBar;
 use super::batch;
 use super::curvature::EstimatorArgs;
 use crate::input::{FormatArg, PrepareArgs, diffusion_factors, is_dash, load_mesh, prepare_mesh};
-use crate::output::{display, refuse_overwriting_inputs, to_stdout};
+use crate::output::{check_output, display, to_stdout};
 use crate::progress::{self, note};
 use crate::scene::{UpArg, UpArgs, WireframeArgs, resolve_up};
 
@@ -174,7 +174,7 @@ pub fn run(args: Args) -> Result<()> {
         args.svg.as_deref(),
     ];
     for written in written.into_iter().chain([args.html.as_deref()]).flatten() {
-        refuse_overwriting_inputs(written, &[input, args.mask.as_deref()])?;
+        check_output(written, &[input, args.mask.as_deref()])?;
     }
     let clock = Instant::now();
     let (mesh, name) = progress::step("reading", || load_mesh(input, args.input_format))?;

@@ -67,7 +67,7 @@ pub fn run(args: Args) -> Result<()> {
     opts.legend = !args.no_legend;
     opts.wireframe = args.wireframe.wireframe;
     opts.validate()?;
-    args.scene.refuse_overwriting_inputs(&args.output)?;
+    args.scene.check_output(&args.output)?;
     let scene = args.scene.load()?;
     opts.up = resolve_up(opts.up, &scene.mesh);
     let (mesh, lines, field) = (&scene.mesh, scene.lines.as_ref(), scene.field.as_deref());

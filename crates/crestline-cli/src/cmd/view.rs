@@ -24,7 +24,7 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     let mut opts = args.scene.options();
     opts.validate()?;
-    args.scene.refuse_overwriting_inputs(&args.output)?;
+    args.scene.check_output(&args.output)?;
     let scene = args.scene.load()?;
     opts.up = resolve_up(opts.up, &scene.mesh);
     let (mesh, lines, field) = (&scene.mesh, scene.lines.as_ref(), scene.field.as_deref());

@@ -328,32 +328,30 @@ impl ExtractOptions {
             Threshold::Knee { floor, .. } => (floor, floor < f64::INFINITY),
         };
         let checks = [
-            (fine, "threshold", threshold),
+            (fine, "threshold", threshold, "of at least 0"),
             (
                 not_negative(self.min_length),
                 "minimum line length",
                 self.min_length,
+                "of at least 0",
             ),
             (
                 not_negative(self.fairing.tolerance),
                 "fairing tolerance",
                 self.fairing.tolerance,
+                "of at least 0",
             ),
             (
                 self.smoothing.time_step.is_finite() && self.smoothing.time_step > 0.0,
                 "smoothing time step",
                 self.smoothing.time_step,
+                "above 0",
             ),
         ];
-        for (fine, what, value) in checks {
+        for (fine, what, value, range) in checks {
             if !fine {
                 return Err(Error::InvalidInput(format!(
-                    "{what} must be a finite number{}, got {value}",
-                    if what == "smoothing time step" {
-                        " above 0"
-                    } else {
-                        " of at least 0"
-                    }
+                    "{what} must be a finite number {range}, got {value}"
                 )));
             }
         }

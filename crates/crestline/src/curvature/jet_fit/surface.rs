@@ -173,6 +173,10 @@ fn cut_triangle(
         .fold(0.0, f64::max);
     let m = ((PIECES_PER_RADIUS * longest / r).ceil() as usize).clamp(1, MAX_PIECES);
     let piece = area_vector.norm() / (m * m) as f64;
+    // Pieces without area weigh nothing in a fit (`SurfacePoint::sample`).
+    if piece.is_nan() || piece <= 0.0 {
+        return Vec3::zeros();
+    }
     let unit = area_vector.try_normalize(0.0).unwrap_or_else(Vec3::zeros);
     let inv = 1.0 / m as f64;
     let along = c - a;
@@ -186,20 +190,13 @@ fn cut_triangle(
         for o in [1.0 / 3.0, 2.0 / 3.0] {
             let start = a + (b - a) * ((i as f64 + o) * inv);
             let to_p = p - start;
-            let (foot, gap2) = if along2 > 0.0 {
-                let foot = to_p.dot(&along) / along2;
-                (foot, (to_p - along * foot).norm_squared())
-            } else {
-                (0.0, to_p.norm_squared())
-            };
-            if gap2 >= r2 || !foot.is_finite() {
+            // (The triangle has area: c − a is not zero.)
+            let foot = to_p.dot(&along) / along2;
+            let gap2 = (to_p - along * foot).norm_squared();
+            if gap2.is_nan() || gap2 >= r2 || !foot.is_finite() {
                 continue;
             }
-            let reach = if along2 > 0.0 {
-                ((r2 - gap2) / along2).sqrt()
-            } else {
-                f64::INFINITY
-            };
+            let reach = ((r2 - gap2) / along2).sqrt();
             // (j + o) / m in [foot − reach, foot + reach], with a margin of one piece.
             let low = ((foot - reach) * m as f64 - o).floor() - 1.0;
             let high = ((foot + reach) * m as f64 - o).ceil() + 1.0;
