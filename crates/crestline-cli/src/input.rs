@@ -44,9 +44,10 @@ impl From<FormatArg> for Format {
 /// `--keep-orientation` and `--no-weld`, shared by the commands that estimate curvature.
 #[derive(Debug, Clone, Copy, clap::Args)]
 pub struct PrepareArgs {
-    /// Keep the winding of the triangles as it is. By default closed components whose
-    /// triangles face inward (negative volume) are reversed first, since curvature signs
-    /// follow the normals: facing inward, ridges and valleys swap.
+    /// Keep the winding of the triangles as it is. By default triangles wound against their
+    /// neighbours are reversed first, then closed components whose triangles face inward
+    /// (negative volume), since curvature signs follow the normals: facing inward, ridges and
+    /// valleys swap, and a triangle wound the other way makes folds of its edges.
     #[arg(long)]
     pub keep_orientation: bool,
     /// Keep vertices that share a position apart. By default vertices at exactly the same
@@ -90,8 +91,9 @@ impl Prepared {
 
 /// Welds the vertices of `mesh` that share a position (unless `args.no_weld`) and says so,
 /// says on stderr what of it the algorithms skip or treat specially (degenerate triangles
-/// dropped, unreferenced vertices, non-manifold edges), then reverses the closed components
-/// that face inward (unless `args.keep_orientation`) and says so. Every command that
+/// dropped, unreferenced vertices, non-manifold edges), then reverses the triangles wound
+/// against their neighbours and the closed components that face inward (unless
+/// `args.keep_orientation`) and says so. Every command that
 /// estimates curvature or draws calls this (`info` reports the mesh as read; `subdivide`
 /// welds it only, [`weld_mesh`]): welding and orientation are decided here for the whole CLI, by the
 /// library's [`crestline::mesh::weld_coincident`] and [`crestline::mesh::orient_outward`]
@@ -119,6 +121,23 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
         None => None,
     };
     let (mesh, report) = crestline::mesh::orient_outward(mesh)?;
+    let count =
+        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    if report.rewound_faces > 0 {
+        eprintln!(
+            "{name}: {} wound against their neighbours (in {}); reversed so that normals \
+             agree (--keep-orientation to keep them)",
+            count(report.rewound_faces, "triangle was", "triangles were"),
+            count(report.inconsistent, "component", "components")
+        );
+    }
+    if report.non_orientable > 0 {
+        eprintln!(
+            "{name}: {} not be wound consistently (non-orientable, like a Möbius strip): \
+             normals, and with them ridges and valleys, swap across a seam there",
+            count(report.non_orientable, "patch could", "patches could")
+        );
+    }
     if report.inward > 0 {
         eprintln!(
             "{name}: {} of {} closed components faced inward ({} triangles); reversed them so \
@@ -130,30 +149,31 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
 }
 
 /// The mesh as read (`given`), turned where [`crestline::mesh::orient_outward`] turns the
-/// mesh `welded` from it by `weld`: a triangle is in an inward component when its first corner
-/// is (components are over shared vertices; every corner of an inward triangle is marked, so
-/// that triangles the weld dropped follow too).
+/// mesh `welded` from it by `weld`: each triangle read is reversed when the welded triangle
+/// over the same corners is (a triangle the weld dropped as a repeat follows the one it
+/// repeats; one the weld made degenerate has none and stays as it is).
 fn turned_like(given: TriMesh, welded: &TriMesh, weld: &Weld) -> Result<TriMesh> {
-    let (report, inward_faces) = crestline::mesh::orientation(welded);
-    if report.inward == 0 {
+    let (report, reversed) = crestline::mesh::orientation(welded);
+    if report.inward == 0 && report.rewound_faces == 0 {
         return Ok(given);
     }
-    let mut inward = vec![false; welded.num_vertices()];
-    for (t, _) in welded
+    let corners = |t: [u32; 3]| {
+        let mut key = t;
+        key.sort_unstable();
+        key
+    };
+    let turned: std::collections::HashMap<[u32; 3], bool> = welded
         .faces()
         .iter()
-        .zip(&inward_faces)
-        .filter(|(_, i)| **i)
-    {
-        for &v in t {
-            inward[v as usize] = true;
-        }
-    }
+        .zip(&reversed)
+        .map(|(&t, &r)| (corners(t), r))
+        .collect();
     let faces = given
         .faces()
         .iter()
         .map(|&[a, b, c]| {
-            if inward[weld.map[a as usize] as usize] {
+            let key = corners([a, b, c].map(|v| weld.map[v as usize]));
+            if turned.get(&key).copied().unwrap_or(false) {
                 [a, c, b]
             } else {
                 [a, b, c]

@@ -199,3 +199,33 @@ fn a_soup_wound_inward_is_written_back_turned_outward() {
     assert_eq!(written.num_vertices(), 3 * mesh.num_faces());
     assert!(crestline::mesh::signed_volume(&written) > 0.0);
 }
+
+#[test]
+fn a_soup_with_triangles_wound_both_ways_is_written_back_wound_alike() {
+    // Every fifth triangle of the soup wound the other way: once welded they are rewound to
+    // agree with the rest, and the mesh written with the fields (the file's own vertices)
+    // has them turned alike, so that every normal points outward.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mixed.off");
+    let (positions, mut faces) = soup(&ellipsoid(), false);
+    for t in faces.iter_mut().skip(2).step_by(5) {
+        t.swap(1, 2);
+    }
+    write_off(&path, positions, faces);
+    let ply = dir.path().join("fields.ply");
+    let out = crestline_ok(["curvature", s(&path), "-o", s(&ply)]);
+    let note = stderr(&out);
+    let count = (0..ellipsoid().num_faces()).filter(|f| f % 5 == 2).count();
+    assert!(
+        note.contains(&format!(
+            "{count} triangles were wound against their neighbours"
+        )),
+        "{note}"
+    );
+    let written = crestline::io::read_mesh(&ply, None).unwrap();
+    for &[a, b, c] in written.faces() {
+        let [a, b, c] = [a, b, c].map(|v| written.position(v));
+        // The ellipsoid is centred at the origin and convex.
+        assert!((b - a).cross(&(c - a)).dot(&(a + b + c)) > 0.0);
+    }
+}

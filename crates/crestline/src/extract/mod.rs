@@ -58,8 +58,10 @@
 //! [`crate::lines::link`]).
 //!
 //! *Orientation:* curvature signs follow the winding of the triangles, so a closed mesh wound
-//! inward gives ridges as valleys and valleys as ridges. By default [`extract`] first
-//! reverses the closed components that face inward ([`crate::mesh::orient_outward`];
+//! inward gives ridges as valleys and valleys as ridges, and a triangle wound against its
+//! neighbours makes a fold of every edge it shares with them. By default [`extract`] first
+//! reverses the triangles wound against the rest of their patch, then the closed components
+//! that face inward ([`crate::mesh::orient_outward`];
 //! [`ExtractOptions::orient_outward`], reported in [`ExtractStats::orientation`]), as the CLI
 //! does for every command (unless `--keep-orientation`). Vertex and face indices stay as
 //! they are, so the curvature fields and line locations refer to the mesh as given.
@@ -192,8 +194,9 @@ pub struct ExtractStats {
     pub gaps_jumped: usize,
     /// Wall time of each stage that ran, in order.
     pub stage_times: Vec<(Stage, Duration)>,
-    /// The closed components found and those reversed because they faced inward (all zero
-    /// when [`ExtractOptions::orient_outward`] is off).
+    /// The closed components found, the triangles rewound to agree with their neighbours and
+    /// the components reversed because they faced inward (all zero when
+    /// [`ExtractOptions::orient_outward`] is off).
     pub orientation: Orientation,
 }
 
@@ -211,8 +214,8 @@ pub struct Extraction {
 /// Finds the feature lines of `mesh`: ridges, valleys and sharp creases, by the pipeline of
 /// `options.pipeline` (see the module docs for the steps), without progress reports.
 ///
-/// The mesh is taken as given except that closed components facing inward are reversed
-/// first ([`ExtractOptions::orient_outward`]). Degenerate triangles, boundaries and
+/// The mesh is taken as given except that triangles wound against their neighbours and
+/// closed components facing inward are reversed first ([`ExtractOptions::orient_outward`]). Degenerate triangles, boundaries and
 /// non-manifold edges are allowed.
 ///
 /// ```
@@ -340,8 +343,9 @@ pub fn extract_with_progress(
     Ok(extraction)
 }
 
-/// The mesh with its inward-facing closed components reversed, or `None` when it needs no
-/// change (or `orient_outward` is off): curvature signs follow the normals.
+/// The mesh with its triangles wound against their patch and its inward-facing closed
+/// components reversed, or `None` when it needs no change (or `orient_outward` is off):
+/// curvature signs follow the normals.
 fn orient_if_inward(
     mesh: &TriMesh,
     options: &ExtractOptions,
@@ -352,7 +356,7 @@ fn orient_if_inward(
     }
     let (report, _) = orientation(mesh);
     stats.orientation = report;
-    if report.inward == 0 {
+    if report.inward == 0 && report.rewound_faces == 0 {
         return Ok(None);
     }
     Ok(Some(orient_outward(mesh.clone())?.0))

@@ -234,8 +234,9 @@ pub struct ExtractOptions {
     /// The method and the options of its own steps. Default: [`Pipeline::Hpw`] with
     /// [`HpwOptions::DEFAULT`].
     pub pipeline: Pipeline,
-    /// Reverse the triangles of closed components that face inward (negative volume) before
-    /// anything else, so that ridges are not taken for valleys (see [`crate::extract`] and
+    /// Reverse the triangles wound against their neighbours, then those of closed components
+    /// that face inward (negative volume), before anything else, so that ridges are not taken
+    /// for valleys nor edges for folds (see [`crate::extract`] and
     /// [`crate::mesh::orient_outward`]); `false` takes the winding as it is. Default: true.
     pub orient_outward: bool,
     /// Sharp creases ([`crate::lines::crease`]), found before anything else on the mesh as

@@ -30,11 +30,16 @@ pub struct MeshInfo {
     pub non_manifold_vertices: usize,
     /// Connected components (faces sharing a vertex are connected).
     pub components: usize,
-    /// Closed, consistently oriented components whose triangles face inward (negative
-    /// volume; see [`super::orient_outward`]).
+    /// Closed components whose triangles face inward (negative volume; once wound
+    /// consistently, see [`super::orient_outward`]).
     pub inward_components: usize,
-    /// Closed components whose triangles are not consistently oriented.
+    /// Components in which some triangles are wound against their neighbours.
     pub inconsistent_components: usize,
+    /// Triangles wound against the rest of their patch (those [`super::orient_outward`]
+    /// reverses first).
+    pub rewound_faces: usize,
+    /// Patches that cannot be wound consistently (non-orientable: a Möbius strip).
+    pub non_orientable_patches: usize,
     /// V - E + F over referenced vertices.
     pub euler_characteristic: i64,
     /// No boundary edges and no non-manifold edges.
@@ -74,6 +79,8 @@ impl MeshInfo {
             components: orientation.components,
             inward_components: orientation.inward,
             inconsistent_components: orientation.inconsistent,
+            rewound_faces: orientation.rewound_faces,
+            non_orientable_patches: orientation.non_orientable,
             euler_characteristic: euler,
             closed: boundary_edges == 0 && non_manifold_edges == 0 && mesh.num_faces() > 0,
             bbox_min: bbox.min,
@@ -108,8 +115,13 @@ impl std::fmt::Display for MeshInfo {
         )?;
         writeln!(
             f,
-            "inconsistent winding   {} components",
-            self.inconsistent_components
+            "inconsistent winding   {} components ({} triangles against their neighbours)",
+            self.inconsistent_components, self.rewound_faces
+        )?;
+        writeln!(
+            f,
+            "non-orientable         {} patches",
+            self.non_orientable_patches
         )?;
         writeln!(f, "euler characteristic   {}", self.euler_characteristic)?;
         writeln!(

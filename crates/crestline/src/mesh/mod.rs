@@ -155,9 +155,9 @@ impl TriMesh {
 
     /// The same mesh with the faces `f` where `flip[f]` wound the other way (corners 1 and 2
     /// swapped). The connectivity does not depend on the winding: it is kept, not rebuilt.
-    #[cfg(test)]
     pub(crate) fn with_flipped_faces(mut self, flip: &[bool]) -> TriMesh {
-        Arc::make_mut(&mut self.topology).flip_faces(|f, _| flip[f], false);
+        Arc::make_mut(&mut self.topology)
+            .flip_faces(|f, _| flip.get(f).copied().unwrap_or(false), false);
         self
     }
 

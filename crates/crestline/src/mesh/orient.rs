@@ -1,17 +1,30 @@
-//! Outward orientation of closed components.
+//! Consistent winding, and outward orientation of closed components.
 //!
 //! Every curvature sign in the crate follows the winding of the triangles (see the module
 //! docs of [`crate::mesh`]): on a closed mesh wound clockwise seen from outside the normals
 //! point inward, every principal curvature changes sign and ridges come out as valleys.
-//! Such files are common (the shared `horse.ply` is one). [`orientation`] finds the closed,
-//! consistently oriented components whose signed volume is negative; [`orient_outward`]
-//! reverses their triangles.
+//! Such files are common (the shared `horse.ply` is one), and so are files in which some
+//! triangles are wound against their neighbours (exporters that do not keep the winding,
+//! pieces merged from several sources): there the normals flip from triangle to triangle,
+//! and every edge between two such triangles looks like a fold of 180°.
 //!
-//! A component is *closed* when every edge of it has exactly two faces, and *consistent* when
-//! the two faces of every edge run through it in opposite directions. Only closed,
-//! consistent components have an inside and an outside to decide by volume; open ones (a
-//! height field, a scan with holes) and inconsistent ones are left as they are and counted.
-//! Components are the connected parts over shared vertices, as in [`super::MeshInfo`].
+//! Two edges of faces *agree* when the two faces of the edge run through it in opposite
+//! directions. [`orient_outward`] takes two steps:
+//! 1. *Winding.* Within each patch of faces joined by edges with exactly two faces, it reverses
+//!    the triangles that disagree with the others, keeping the winding that most of the
+//!    patch's triangles have (a breadth-first walk gives each face its winding relative to
+//!    the first; the smaller of the two sets is reversed, at a tie the one without the
+//!    patch's first face). A patch in which the walk meets itself with the other winding has
+//!    none (a Möbius strip, a Klein bottle): it is left as it is and counted. Edges with more
+//!    than two faces do not join patches: which two of their faces belong together is not
+//!    known.
+//! 2. *Outward.* Components that are then closed and consistently wound have an inside and
+//!    an outside: those with negative signed volume are reversed. Open ones (a height field,
+//!    a scan with holes) keep the winding of step 1.
+//!
+//! A component is *closed* when every edge of it has exactly two faces. Components are the
+//! connected parts over shared vertices, as in [`super::MeshInfo`]. [`orientation`] reports
+//! what [`orient_outward`] would do without doing it.
 
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
@@ -19,6 +32,7 @@ use rayon::prelude::*;
 
 use crate::error::Result;
 
+use super::topology::runs_through;
 use super::{TriMesh, Vec3};
 
 /// What [`orientation`] found.
@@ -26,42 +40,112 @@ use super::{TriMesh, Vec3};
 pub struct Orientation {
     /// Connected components (over shared vertices).
     pub components: usize,
-    /// Closed, consistently oriented components.
+    /// Closed components that have a consistent winding (once rewound).
     pub closed: usize,
     /// Of those, the ones with negative signed volume (facing inward).
     pub inward: usize,
     /// Triangles in the inward components.
     pub inward_faces: usize,
-    /// Components that are closed but not consistently oriented (left as they are).
+    /// Components (closed or open) in which some triangles are wound against their
+    /// neighbours, as given.
     pub inconsistent: usize,
+    /// Triangles reversed to agree with the rest of their patch (step 1 of the module docs).
+    pub rewound_faces: usize,
+    /// Patches that cannot be wound consistently (non-orientable: a Möbius strip), left as
+    /// they are.
+    pub non_orientable: usize,
 }
 
 /// Faces per block when summing volumes.
 const VOLUME_BLOCK: usize = 1 << 14;
 
-/// Classifies the components of `mesh`; returns the report and, per face, whether it lies in
-/// an inward-facing closed component.
+/// Classifies the components of `mesh`; returns the report and, per face, whether
+/// [`orient_outward`] reverses it (to agree with its patch, or in an inward component).
 pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
     let (report, components) = classify(mesh);
     let faces = mesh.faces();
     let per_face = (0..faces.len())
         .into_par_iter()
-        .map(|f| components.is_inward(&faces[f]))
+        .map(|f| components.reverses(f, &faces[f]))
         .collect();
     (report, per_face)
 }
 
 /// The component of every vertex and whether each faces inward, from which whether a face
-/// lies in an inward component is read off its first corner (no array per face).
+/// lies in an inward component is read off its first corner (no array per face), and the
+/// faces to rewind (empty when every patch is consistent).
 struct Components {
     of_vertex: Vec<u32>,
     inward: Vec<bool>,
+    rewind: Vec<bool>,
 }
 
 impl Components {
     fn is_inward(&self, triangle: &[u32; 3]) -> bool {
         self.inward[self.of_vertex[triangle[0] as usize] as usize]
     }
+
+    /// Whether face `f` with corners `triangle` is reversed: rewound or inward, not both.
+    fn reverses(&self, f: usize, triangle: &[u32; 3]) -> bool {
+        self.is_inward(triangle) != self.rewind.get(f).copied().unwrap_or(false)
+    }
+}
+
+/// Per face, whether it is reversed to agree with its patch (step 1 of the module docs),
+/// with the number of such faces and of non-orientable patches.
+fn rewinding(mesh: &TriMesh) -> (Vec<bool>, usize, usize) {
+    const UNSEEN: u8 = u8::MAX;
+    let topo = mesh.topology();
+    let faces = mesh.faces();
+    // Per face its winding relative to the first face of its patch: 0 the same, 1 reversed.
+    let mut relative = vec![UNSEEN; faces.len()];
+    let mut rewind = vec![false; faces.len()];
+    let (mut rewound, mut non_orientable) = (0, 0);
+    let (mut patch, mut stack) = (Vec::new(), Vec::new());
+    for first in 0..faces.len() {
+        if relative[first] != UNSEEN {
+            continue;
+        }
+        relative[first] = 0;
+        stack.push(first as u32);
+        patch.clear();
+        let mut orientable = true;
+        while let Some(f) = stack.pop() {
+            patch.push(f);
+            let here = relative[f as usize];
+            for e in topo.face_edges(f) {
+                let &[a, b] = topo.edge_faces(e) else {
+                    continue;
+                };
+                let g = if a == f { b } else { a };
+                let edge = topo.edge(e);
+                let agree = runs_through(&faces[f as usize], edge)
+                    != runs_through(&faces[g as usize], edge);
+                let wanted = here ^ u8::from(!agree);
+                let seen = &mut relative[g as usize];
+                if *seen == UNSEEN {
+                    *seen = wanted;
+                    stack.push(g);
+                } else if *seen != wanted {
+                    orientable = false;
+                }
+            }
+        }
+        if !orientable {
+            non_orientable += 1;
+            continue;
+        }
+        let reversed = patch.iter().filter(|&&f| relative[f as usize] == 1).count();
+        // Reverse the smaller set; at a tie, the faces wound against the patch's first.
+        let reverse = if 2 * reversed <= patch.len() { 1 } else { 0 };
+        for &f in &patch {
+            if relative[f as usize] == reverse {
+                rewind[f as usize] = true;
+                rewound += 1;
+            }
+        }
+    }
+    (rewind, rewound, non_orientable)
 }
 
 /// The report of [`orientation`] and the components it found.
@@ -93,6 +177,33 @@ fn classify(mesh: &TriMesh) -> (Orientation, Components) {
         .into_iter()
         .map(AtomicBool::into_inner)
         .collect();
+    let mut report = Orientation {
+        components: count,
+        inconsistent: inconsistent.iter().filter(|&&x| x).count(),
+        ..Default::default()
+    };
+    // Step 1 (module docs); the volumes below are those of the rewound triangles. A component
+    // that keeps a non-orientable patch has no inside.
+    let mut has_inside: Vec<bool> = open.iter().map(|&open| !open).collect();
+    let rewind = if report.inconsistent > 0 {
+        let (rewind, rewound, non_orientable) = rewinding(mesh);
+        report.rewound_faces = rewound;
+        report.non_orientable = non_orientable;
+        if non_orientable > 0 {
+            let rewound = mesh.clone().with_flipped_faces(&rewind);
+            let topo = rewound.topology();
+            for (v, &c) in vertex_component.iter().enumerate() {
+                if let Some(inside) = has_inside.get_mut(c as usize)
+                    && topo.has_inconsistent_edge(v as u32)
+                {
+                    *inside = false;
+                }
+            }
+        }
+        rewind
+    } else {
+        Vec::new()
+    };
     // Signed volumes about the bounding-box centre (for fewer cancellations): summed in
     // parallel over fixed blocks of faces, run by run of faces in one component, then block
     // by block in order, so the sums do not depend on the number of threads. The runs also
@@ -100,11 +211,15 @@ fn classify(mesh: &TriMesh) -> (Orientation, Components) {
     let centre = mesh.bounding_box().center();
     let runs: Vec<Vec<(u32, f64, usize)>> = faces
         .par_chunks(VOLUME_BLOCK)
-        .map(|block| {
+        .enumerate()
+        .map(|(block, triangles)| {
             let mut runs: Vec<(u32, f64, usize)> = Vec::new();
-            for t in block {
+            for (i, t) in triangles.iter().enumerate() {
                 let c = vertex_component[t[0] as usize];
-                let v = tetrahedron_volume(mesh, centre, t);
+                let mut v = tetrahedron_volume(mesh, centre, t);
+                if rewind.get(block * VOLUME_BLOCK + i) == Some(&true) {
+                    v = -v;
+                }
                 match runs.last_mut() {
                     Some((last, sum, faces)) if *last == c => {
                         *sum += v;
@@ -122,17 +237,9 @@ fn classify(mesh: &TriMesh) -> (Orientation, Components) {
         volume[c as usize] += v;
         face_count[c as usize] += n;
     }
-    let mut report = Orientation {
-        components: count,
-        ..Default::default()
-    };
     let mut flip = vec![false; count];
     for c in 0..count {
-        if open[c] {
-            continue;
-        }
-        if inconsistent[c] {
-            report.inconsistent += 1;
+        if !has_inside[c] {
             continue;
         }
         report.closed += 1;
@@ -145,6 +252,7 @@ fn classify(mesh: &TriMesh) -> (Orientation, Components) {
     let components = Components {
         of_vertex: vertex_component,
         inward: flip,
+        rewind,
     };
     (report, components)
 }
@@ -156,9 +264,10 @@ fn tetrahedron_volume(mesh: &TriMesh, centre: Vec3, triangle: &[u32; 3]) -> f64 
     a.dot(&b.cross(&c)) / 6.0
 }
 
-/// Reverses the triangles of the closed components that face inward (see the module docs),
-/// so that normals point outward. Returns the mesh unchanged (not rebuilt) when nothing faces
-/// inward, and the report either way.
+/// Reverses the triangles wound against the rest of their patch, then those of the closed
+/// components that face inward (see the module docs), so that normals agree and point
+/// outward. Returns the mesh unchanged (not rebuilt) when nothing is reversed, and the report
+/// either way.
 ///
 /// ```
 /// use crestline::mesh::{orient_outward, signed_volume};
@@ -180,6 +289,14 @@ fn tetrahedron_volume(mesh: &TriMesh, centre: Vec3, triangle: &[u32; 3]) -> f64 
 /// room for meshes that cannot be oriented.
 pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
     let (report, components) = classify(&mesh);
+    if report.rewound_faces > 0 {
+        let faces = mesh.faces();
+        let reverse: Vec<bool> = (0..faces.len())
+            .into_par_iter()
+            .map(|f| components.reverses(f, &faces[f]))
+            .collect();
+        return Ok((mesh.with_flipped_faces(&reverse), report));
+    }
     if report.inward == 0 {
         return Ok((mesh, report));
     }
@@ -299,23 +416,65 @@ mod tests {
     }
 
     #[test]
-    fn open_and_inconsistent_components_are_left_alone() {
+    fn open_components_keep_their_winding() {
         // An open height field wound downward: no inside, nothing to decide.
         let field =
             shapes::height_field(|x, y| 0.1 * (x * x + y * y), [-1.0, 1.0], [-1.0, 1.0], 8, 8);
         let down = flipped(&field);
-        let (report, _) = orientation(&down);
-        assert_eq!((report.components, report.closed, report.inward), (1, 0, 0));
-        // A sphere with one triangle reversed: closed but inconsistent.
-        let sphere = shapes::icosphere(1.0, 2);
-        let mut faces = sphere.faces().to_vec();
-        faces[0].swap(1, 2);
-        let bad = TriMesh::new(sphere.positions().to_vec(), faces).unwrap();
-        let (report, _) = orientation(&bad);
+        let (report, reversed) = orientation(&down);
         assert_eq!(
-            (report.closed, report.inconsistent, report.inward),
-            (0, 1, 0)
+            (
+                report.components,
+                report.closed,
+                report.inward,
+                report.rewound_faces
+            ),
+            (1, 0, 0, 0)
         );
+        assert!(reversed.iter().all(|&r| !r));
+        let topo = down.topology();
+        let open = (0..down.num_vertices() as u32).filter(|&v| topo.has_open_edge(v));
+        assert_eq!(open.count(), 4 * 8);
+    }
+
+    /// `mesh` with the faces `f` where `pick(f)` wound the other way.
+    fn some_flipped(mesh: &TriMesh, pick: impl Fn(usize) -> bool) -> TriMesh {
+        let faces = mesh
+            .faces()
+            .iter()
+            .enumerate()
+            .map(|(f, &[a, b, c])| if pick(f) { [a, c, b] } else { [a, b, c] })
+            .collect();
+        TriMesh::new(mesh.positions().to_vec(), faces).unwrap()
+    }
+
+    #[test]
+    fn a_triangle_wound_against_its_neighbours_is_reversed() {
+        let sphere = shapes::icosphere(1.0, 2);
+        let bad = some_flipped(&sphere, |f| f == 0);
+        let (report, reversed) = orientation(&bad);
+        assert_eq!(
+            (
+                report.closed,
+                report.inconsistent,
+                report.rewound_faces,
+                report.inward,
+                report.non_orientable
+            ),
+            (1, 1, 1, 0, 0)
+        );
+        assert_eq!(reversed.iter().filter(|&&r| r).count(), 1);
+        assert!(reversed[0]);
+        // Only the corners of the reversed triangle have an inconsistent edge.
+        let topo = bad.topology();
+        for v in 0..bad.num_vertices() as u32 {
+            assert_eq!(topo.has_inconsistent_edge(v), bad.faces()[0].contains(&v));
+            assert!(!topo.has_open_edge(v));
+        }
+        let (fixed, _) = orient_outward(bad).unwrap();
+        assert_eq!(fixed.faces(), sphere.faces());
+        let (after, _) = orientation(&fixed);
+        assert_eq!((after.inconsistent, after.rewound_faces), (0, 0));
         // The same triangle reversed in place (the connectivity kept): the same verdict, and
         // reversing it back makes the sphere consistent again.
         let mut one = vec![false; sphere.num_faces()];
@@ -323,19 +482,67 @@ mod tests {
         let reversed = sphere.clone().with_flipped_faces(&one);
         assert_eq!(orientation(&reversed).0, report);
         let back = reversed.with_flipped_faces(&one);
-        let (report, _) = orientation(&back);
-        assert_eq!(
-            (report.closed, report.inconsistent, report.inward),
-            (1, 0, 0)
-        );
-        // Only the corners of the reversed triangle have an inconsistent edge.
-        let topo = bad.topology();
-        for v in 0..bad.num_vertices() as u32 {
-            assert_eq!(topo.has_inconsistent_edge(v), bad.faces()[0].contains(&v));
-            assert!(!topo.has_open_edge(v));
+        assert_eq!(orientation(&back).0.inconsistent, 0);
+    }
+
+    #[test]
+    fn the_winding_most_triangles_have_wins_then_the_volume_decides() {
+        // A sphere wound inward with a third of its triangles wound outward: the third is
+        // rewound to agree with the rest, then the whole sphere is turned outward.
+        let sphere = shapes::icosphere(1.0, 3);
+        let inward = some_flipped(&sphere, |f| f % 3 != 0);
+        let (report, _) = orientation(&inward);
+        assert_eq!(report.rewound_faces, sphere.num_faces().div_ceil(3));
+        assert_eq!((report.closed, report.inward), (1, 1));
+        let (fixed, _) = orient_outward(inward).unwrap();
+        assert_eq!(fixed.faces(), sphere.faces());
+        // An open height field wound upward with every third triangle wound downward.
+        let field =
+            shapes::height_field(|x, y| 0.1 * (x * x + y * y), [-1.0, 1.0], [-1.0, 1.0], 8, 8);
+        let mixed = some_flipped(&field, |f| f % 3 == 1);
+        let (report, _) = orientation(&mixed);
+        let wrong = (0..field.num_faces()).filter(|f| f % 3 == 1).count();
+        assert_eq!((report.closed, report.rewound_faces), (0, wrong));
+        assert_eq!(orient_outward(mixed).unwrap().0.faces(), field.faces());
+    }
+
+    /// A Möbius strip of `n` segments, each two triangles, wound consistently but for the
+    /// last segment's, where the strip is glued to itself turned over.
+    fn moebius(n: usize) -> TriMesh {
+        let mut positions = Vec::new();
+        for i in 0..n {
+            let t = i as f64 / n as f64 * std::f64::consts::TAU;
+            for w in [-0.3, 0.3] {
+                let r = 1.0 + w * (t / 2.0).cos();
+                positions.push(Vec3::new(r * t.cos(), r * t.sin(), w * (t / 2.0).sin()));
+            }
         }
-        let topo = down.topology();
-        let open = (0..down.num_vertices() as u32).filter(|&v| topo.has_open_edge(v));
-        assert_eq!(open.count(), 4 * 8);
+        let mut faces = Vec::new();
+        for i in 0..n {
+            let (a, b) = (2 * i as u32, 2 * i as u32 + 1);
+            // The strip comes back turned over: the last segment joins a to the next b.
+            let (c, d) = if i + 1 < n { (a + 2, b + 2) } else { (1, 0) };
+            faces.extend([[a, c, b], [b, c, d]]);
+        }
+        TriMesh::new(positions, faces).unwrap()
+    }
+
+    #[test]
+    fn a_moebius_strip_has_no_consistent_winding_and_is_left_alone() {
+        let strip = moebius(24);
+        let (report, reversed) = orientation(&strip);
+        assert_eq!(
+            (
+                report.components,
+                report.closed,
+                report.inconsistent,
+                report.non_orientable
+            ),
+            (1, 0, 1, 1)
+        );
+        assert_eq!(report.rewound_faces, 0);
+        assert!(reversed.iter().all(|&r| !r));
+        let (same, _) = orient_outward(strip.clone()).unwrap();
+        assert_eq!(same.faces(), strip.faces());
     }
 }

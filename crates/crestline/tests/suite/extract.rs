@@ -8,6 +8,7 @@ use crate::common;
 
 use common::{ELLIPSOID, check_deterministic_and_simple, check_ellipsoid, check_torus_is_empty};
 use crestline::extract::{ExtractOptions, HpwOptions, Method, Pipeline};
+use crestline::lines::LineKind;
 use crestline::lines::filter::StrengthMeasure;
 use crestline::shapes;
 use crestline::threshold::Threshold;
@@ -65,6 +66,52 @@ fn output_is_deterministic_and_polylines_are_simple() {
         ..ExtractOptions::default()
     };
     check_deterministic_and_simple(&mesh, &options, "HPW");
+}
+
+/// `mesh` with every seventh triangle wound the other way, as an exporter that lost their
+/// winding leaves them, and how many.
+fn some_wound_the_other_way(mesh: &crestline::TriMesh) -> (crestline::TriMesh, usize) {
+    let wrong = |f: usize| f % 7 == 3;
+    let faces = (mesh.faces().iter().enumerate())
+        .map(|(f, &[a, b, c])| if wrong(f) { [a, c, b] } else { [a, b, c] })
+        .collect();
+    let count = (0..mesh.num_faces()).filter(|&f| wrong(f)).count();
+    (
+        crestline::TriMesh::new(mesh.positions().to_vec(), faces).unwrap(),
+        count,
+    )
+}
+
+#[test]
+fn triangles_wound_against_their_neighbours_are_rewound_first() {
+    let mesh = shapes::ellipsoid(A, B, C, 3);
+    let (mixed, count) = some_wound_the_other_way(&mesh);
+    let options = ExtractOptions::for_method(Method::Hpw);
+    let found = crestline::extract::extract(&mixed, &options).unwrap();
+    let orientation = found.stats.orientation;
+    assert_eq!((orientation.rewound_faces, orientation.inward), (count, 0));
+    let same = crestline::extract::extract(&mesh, &options).unwrap();
+    assert_eq!((found.stats.ridges, found.stats.valleys), (1, 0));
+    assert_eq!(found.lines.lines[0].points, same.lines.lines[0].points);
+    // A box with rounded faces: taken as wound, the reversed triangles turn parts of its
+    // convex creases into concave ones (crease valleys).
+    let (pillow, _) = shapes::pillow_box(1.0, 0.1, 16);
+    let (mixed, _) = some_wound_the_other_way(&pillow);
+    let valleys = |found: &crestline::extract::Extraction| {
+        (found.lines.creases(true))
+            .filter(|l| l.kind == LineKind::Valley)
+            .count()
+    };
+    let found = crestline::extract::extract(&mixed, &options).unwrap();
+    let same = crestline::extract::extract(&pillow, &options).unwrap();
+    assert_eq!(valleys(&found), 0);
+    assert_eq!(found.lines.lines.len(), same.lines.lines.len());
+    let as_wound = ExtractOptions {
+        orient_outward: false,
+        ..options
+    };
+    let found = crestline::extract::extract(&mixed, &as_wound).unwrap();
+    assert!(valleys(&found) > 0, "{:?}", found.stats);
 }
 
 #[test]

@@ -556,7 +556,7 @@ impl Topology {
 }
 
 /// Whether `triangle` runs through `edge` from its first to its second vertex.
-fn runs_through(triangle: &[u32; 3], [a, b]: [u32; 2]) -> bool {
+pub(crate) fn runs_through(triangle: &[u32; 3], [a, b]: [u32; 2]) -> bool {
     let i = triangle.iter().position(|&v| v == a).unwrap_or(0);
     triangle[(i + 1) % 3] == b
 }
