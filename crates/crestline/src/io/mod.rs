@@ -15,6 +15,15 @@
 //! [`MeshData`] (see [`parse_mesh_bytes`]); [`read_mesh`] and [`read_mesh_bytes`] then build a
 //! [`TriMesh`], which drops and counts triangles with a repeated index or zero area.
 //!
+//! Damaged files are errors, never a mesh read in silence with parts missing or made up:
+//! a file cut short (anywhere in an ascii STL, too, up to its `endsolid`), a count that
+//! disagrees with the data (a binary STL whose header counts fewer triangles than follow),
+//! negative or oversized counts and indices, values a binary file of the declared type could
+//! not hold (a PLY `float` of `1e39`), binary OFF (not supported). Things that are normal
+//! keep working: degenerate faces (counted by the mesh), padding after the last binary STL
+//! record, comments, a byte-order mark, and lines that end in LF, CR LF or a lone CR (classic
+//! Mac OS) in every text format; line numbers count the lines as an editor shows them.
+//!
 //! Writers store `f64` exactly: text formats use Rust's shortest round-trip formatting and
 //! binary PLY uses `double`, so writing then reading gives back the same bits. They write the
 //! faces the mesh kept (degenerate input faces are not written back) and every vertex, in

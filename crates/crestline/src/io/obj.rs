@@ -18,7 +18,8 @@
 use std::io::Write;
 
 use super::text::{
-    Lines, Source, Tokens, is_blank, is_space, parse_i64, short_decimal_prefix, show, vertex,
+    Lines, Source, Tokens, is_blank, is_integer_token, is_space, parse_i64, short_decimal_prefix,
+    show, vertex,
 };
 use super::{MeshData, push_fan, write_xyz};
 use crate::error::Result;
@@ -176,6 +177,9 @@ fn vertex_index(token: &[u8], vertices_so_far: usize) -> Result<u32, String> {
         None => token,
     };
     let Some(i) = parse_i64(digits) else {
+        if is_integer_token(digits) {
+            return Err(format!("vertex index {} out of range", show(digits)));
+        }
         return Err(format!(
             "non-numeric token '{}' where a vertex index was expected",
             show(token)
@@ -397,6 +401,31 @@ mod tests {
         assert_eq!(
             error("v 0 0 0\nf\n"),
             "t.obj: line 2: face with 0 vertices (at least 3 needed)"
+        );
+    }
+
+    #[test]
+    fn lone_carriage_returns_end_lines() {
+        // Classic Mac OS line ends: the whole file was one line, read as one vertex.
+        let m = parse_str("v 0 0 0\rv 1 0 0\r\rv 0 1 0\rf 1 2 3\r").unwrap();
+        assert_eq!(m.positions.len(), 3);
+        assert_eq!(m.faces, vec![[0, 1, 2]]);
+        // Errors count those lines, mixed with the other line ends.
+        assert_eq!(
+            error("v 0 0 0\r\nv 1 0 0\rv 0 1 0\nf 1 2 x\r"),
+            "t.obj: line 4: non-numeric token 'x' where a vertex index was expected"
+        );
+    }
+
+    #[test]
+    fn huge_indices_are_out_of_range_not_words() {
+        let digits = "9".repeat(300);
+        assert_eq!(
+            error(&format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 {digits}/1\n")),
+            format!(
+                "t.obj: line 4: vertex index {}… out of range",
+                &digits[..40]
+            )
         );
     }
 

@@ -18,8 +18,14 @@
 //! scan each; anything else (polygons, signs, comments, errors) goes through the tokens.
 //! Errors still name the line, counted only when one occurs.
 //!
+//! Lines may end in LF, CR LF or a lone CR (see [`super::text`]). Pieces are cut after LFs
+//! and pass 1 counts LFs only: a piece that turns out to hold more lines than that (lone
+//! CRs) is, like one with blank lines, counted again token by token, and a file of lone CRs
+//! only is one piece, parsed on one core.
+//!
 //! Limits: the body must put one vertex or face per line (as every writer does); 4D (`4OFF`),
-//! n-dimensional (`nOFF`) and binary OFF are refused with an error.
+//! n-dimensional (`nOFF`) and binary OFF (`OFF BINARY`) are refused with an error that says
+//! so.
 //!
 //! Writing emits `OFF`, the counts, `x y z` per vertex (shortest round-trip numbers) and
 //! `3 a b c` per triangle.
@@ -28,7 +34,10 @@ use std::io::Write;
 
 use rayon::prelude::*;
 
-use super::text::{Lines, Source, Tokens, is_space, parse_i64, show, vertex, vertex_line};
+use super::text::{
+    Lines, Source, Tokens, is_integer_token, is_space, line_at, parse_count, parse_i64, show,
+    vertex, vertex_line,
+};
 use super::{MeshData, push_fan, write_xyz};
 use crate::error::Result;
 use crate::mesh::TriMesh;
@@ -85,10 +94,7 @@ fn parse_with_chunks(bytes: &[u8], source: Source<'_>, chunk_bytes: usize) -> Re
     };
     let (positions, faces, total) = match parsed {
         Ok(parsed) => parsed,
-        Err((offset, message)) => {
-            let line = memchr::memchr_iter(b'\n', &bytes[..offset]).count() + 1;
-            return Err(source.at_line(line, message));
-        }
+        Err((offset, message)) => return Err(source.at_line(line_at(bytes, offset), message)),
     };
     if total < vertex_count {
         return Err(source.at_line(
@@ -123,6 +129,20 @@ fn read_counts(bytes: &[u8], raw: &mut Lines<'_>, source: Source<'_>) -> Result<
         let prefix = &first[..first.len() - 3];
         check_header_prefix(prefix).map_err(|m| source.at_line(line, m))?;
         counts.extend(rest.map(|t| (line, t)));
+        // Geomview's binary OFF: the counts and records that follow are binary.
+        if counts
+            .first()
+            .is_some_and(|&(_, t)| t.eq_ignore_ascii_case(b"BINARY"))
+        {
+            return Err(source.at_line(
+                line,
+                format!(
+                    "binary OFF ('{} BINARY') is not supported: convert the file to ascii OFF, \
+                     PLY or OBJ",
+                    show(first)
+                ),
+            ));
+        }
         if counts.is_empty() {
             let Some((line, first, rest)) = next_content(raw) else {
                 return Err(source.at_line(last_line(), "missing counts line after OFF header"));
@@ -147,17 +167,8 @@ fn read_counts(bytes: &[u8], raw: &mut Lines<'_>, source: Source<'_>) -> Result<
             let line = counts.first().map_or(line, |c| c.0);
             return Err(source.at_line(line, format!("malformed header: missing {what} count")));
         };
-        parse_i64(token)
-            .and_then(|c| usize::try_from(c).ok())
-            .ok_or_else(|| {
-                source.at_line(
-                    line,
-                    format!(
-                        "malformed header: {what} count '{}' is not a non-negative integer",
-                        show(token)
-                    ),
-                )
-            })
+        parse_count(token, &format!("{what} count"))
+            .map_err(|m| source.at_line(line, format!("malformed header: {m}")))
     };
     let vertex_count = count(0, "vertex")?;
     let face_count = count(1, "face")?;
@@ -195,7 +206,8 @@ struct Piece {
     faces: Vec<[u32; 3]>,
     /// Records read.
     records: usize,
-    /// Lines without content met before the last record read.
+    /// Lines without content met before the last record read (or lines beyond the count
+    /// the piece was given).
     skipped: usize,
     /// The byte offset of the line that failed and what is wrong with it.
     error: Option<(usize, String)>,
@@ -308,6 +320,13 @@ impl Body<'_> {
             let Some((_, text)) = lines.next() else {
                 break;
             };
+            if record - first >= count {
+                // Exact counts leave only lines without content here. Counts of LFs miss the
+                // lines that end in a lone CR: the piece holds more lines than counted, and
+                // must be counted again.
+                piece.skipped += 1;
+                break;
+            }
             // Plain vertices and triangles first, without splitting the line into tokens.
             if record < self.vertex_count {
                 if let Some(p) = vertex_line(text) {
@@ -392,11 +411,21 @@ fn face<'a>(
     corners: &mut Vec<u32>,
 ) -> std::result::Result<(), String> {
     let n = parse_i64(head).ok_or_else(|| {
-        format!(
-            "non-numeric token '{}' where the vertex count of face {f} was expected",
-            show(head)
-        )
+        if is_integer_token(head) {
+            format!("face {f}: vertex count '{}' is out of range", show(head))
+        } else {
+            format!(
+                "non-numeric token '{}' where the vertex count of face {f} was expected",
+                show(head)
+            )
+        }
     })?;
+    if n < 0 {
+        return Err(format!(
+            "face {f}: vertex count {n} is not a non-negative integer (a count cannot be \
+             negative)"
+        ));
+    }
     if n < 3 {
         return Err(format!("face {f} has {n} vertices (at least 3 needed)"));
     }
@@ -406,10 +435,18 @@ fn face<'a>(
             return Err(format!("face {f} lists {k} of its {n} vertex indices"));
         };
         let i = parse_i64(token).ok_or_else(|| {
-            format!(
-                "non-numeric token '{}' where a vertex index of face {f} was expected",
-                show(token)
-            )
+            if is_integer_token(token) {
+                format!(
+                    "face {f}: vertex index {} out of range (the file has {vertex_count} \
+                     vertices)",
+                    show(token)
+                )
+            } else {
+                format!(
+                    "non-numeric token '{}' where a vertex index of face {f} was expected",
+                    show(token)
+                )
+            }
         })?;
         if i < 0 || i as u64 >= vertex_count as u64 {
             return Err(format!(
@@ -679,6 +716,93 @@ mod tests {
         assert_eq!(triangle_line(b" 3\t2 1 0 255 0 0", 4), Some([2, 1, 0]));
         assert_eq!(triangle_line(b"3 0 1 9", 4), None);
         assert_eq!(triangle_line(b"3 0 1 2#c", 4), None);
+    }
+
+    #[test]
+    fn binary_off_is_named_as_unsupported() {
+        assert_eq!(
+            error("OFF BINARY\n\x00\x00\x00\x03"),
+            "t.off: line 1: binary OFF ('OFF BINARY') is not supported: convert the file to \
+             ascii OFF, PLY or OBJ"
+        );
+        assert_eq!(
+            error("COFF binary\n"),
+            "t.off: line 1: binary OFF ('COFF BINARY') is not supported: convert the file to \
+             ascii OFF, PLY or OBJ"
+        );
+    }
+
+    #[test]
+    fn negative_and_huge_counts_say_so() {
+        assert_eq!(
+            error("OFF\n-4 1 0\n"),
+            "t.off: line 2: malformed header: vertex count -4 is not a non-negative integer (a \
+             count cannot be negative)"
+        );
+        assert_eq!(
+            error("OFF\n3 -1 0\n"),
+            "t.off: line 2: malformed header: face count -1 is not a non-negative integer (a \
+             count cannot be negative)"
+        );
+        let digits = "9".repeat(300);
+        assert_eq!(
+            error(&format!("OFF\n{digits} 1 0\n")),
+            format!(
+                "t.off: line 2: malformed header: vertex count '{}…' is too large",
+                &digits[..40]
+            )
+        );
+        let head = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n";
+        assert_eq!(
+            error(&format!("{head}-3 0 1 2\n")),
+            "t.off: line 6: face 0: vertex count -3 is not a non-negative integer (a count \
+             cannot be negative)"
+        );
+        assert_eq!(
+            error(&format!("{head}{digits} 0 1 2\n")),
+            format!(
+                "t.off: line 6: face 0: vertex count '{}…' is out of range",
+                &digits[..40]
+            )
+        );
+        assert_eq!(
+            error(&format!("{head}3 0 1 {digits}\n")),
+            format!(
+                "t.off: line 6: face 0: vertex index {}… out of range (the file has 3 vertices)",
+                &digits[..40]
+            )
+        );
+    }
+
+    #[test]
+    fn lone_carriage_returns_end_lines_in_every_piece() {
+        let text = grid_text(12).replace('\n', "\r");
+        let source = Source::new(Path::new("t.off"));
+        let lf = parse_with_chunks(grid_text(12).as_bytes(), source, usize::MAX / 2).unwrap();
+        for chunk in [1, 7, 100, usize::MAX / 2] {
+            let cr = parse_with_chunks(text.as_bytes(), source, chunk).unwrap();
+            assert_eq!(cr, lf, "chunk {chunk}");
+        }
+        // Lone CRs among LFs (a piece then holds more lines than it has LFs).
+        let mixed: String = grid_text(12)
+            .split('\n')
+            .enumerate()
+            .map(|(i, l)| format!("{l}{}", if i % 3 == 0 { "\r" } else { "\n" }))
+            .collect();
+        for chunk in [1, 50, usize::MAX / 2] {
+            let m = parse_with_chunks(mixed.as_bytes(), source, chunk).unwrap();
+            assert_eq!(m, lf, "chunk {chunk}");
+        }
+        // Errors count the lines a lone CR ends.
+        assert_eq!(
+            error("OFF\r3 1 0\r0 0 0\r1 x 0\r0 1 0\r3 0 1 2\r"),
+            "t.off: line 4: non-numeric token 'x' where the y coordinate of vertex 1 was \
+             expected"
+        );
+        assert_eq!(
+            error("OFF\r3 1 0\r0 0 0\r\n1 0 0\r0 1 0\r\r"),
+            "t.off: line 6: the file ends after 0 of 1 faces"
+        );
     }
 
     #[test]

@@ -12,13 +12,25 @@
 //! triangle count n and n 50-byte records, so its size is exactly 84 + 50·n. Many binary
 //! exporters start the header with `solid`, so that word alone proves nothing: a file whose
 //! size matches is binary; otherwise a file that starts with `solid` is ascii; otherwise it
-//! is binary (trailing bytes after the last record are tolerated, a short file is
-//! truncated).
+//! is binary, and a short one is truncated.
+//!
+//! Bytes after the last record of a binary file are tolerated when they are padding: a part
+//! of a record, zero bytes, text. When they are instead whole records that look like
+//! triangles (twelve finite numbers, neither all zero bytes nor all printable text), the
+//! header's count is wrong: exporters that write the count before they know it leave 0 or
+//! a partial count there. That is an error naming the offset of the first such record and
+//! both counts, rather than reading the triangles anyway: either number could be the wrong
+//! one (a file cut short with junk after it looks the same), the reader has no way to warn,
+//! and a mesh missing triangles or grown by garbage would go on silently into the
+//! algorithms. The message says how to repair the file.
 //!
 //! Ascii: `solid name`, then `facet normal nx ny nz`, `outer loop`, three `vertex x y z`,
 //! `endloop`, `endfacet`, ..., `endsolid name`; keywords are matched case-insensitively and
 //! several solids may follow each other. A loop with more than three vertices is
-//! fan-triangulated.
+//! fan-triangulated. The nesting is checked, so that a file cut anywhere (after `facet
+//! normal ...`, inside a loop, after an `endfacet` without the `endsolid`) or missing an
+//! `endloop` or `endfacet` is an error naming the line, not a mesh short of triangles. A
+//! `solid` line alone is left to the "no vertices" error of every format.
 //!
 //! Writing emits binary STL; positions are rounded to `f32`, so it is the one lossy format.
 
@@ -55,6 +67,7 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
         (Some(n), Some(expected)) if expected == size => parse_binary(bytes, n, source),
         (Some(n), Some(expected)) if !starts_with_solid => {
             if expected < size {
+                check_trailing_records(bytes, n, source)?;
                 parse_binary(bytes, n, source)
             } else {
                 let complete = (bytes.len() - PREAMBLE_BYTES) / RECORD_BYTES;
@@ -69,27 +82,36 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
             }
         }
         _ if starts_with_solid => {
-            parse_ascii(bytes, source).map_err(|e| match (e, expected_size) {
-                // A binary file whose header starts with "solid" but whose size is wrong lands
-                // here; say so, or the user only sees a baffling ascii error.
-                (
-                    Error::Parse {
-                        path,
-                        location,
-                        message,
-                    },
-                    Some(expected),
-                ) if looks_binary => Error::Parse {
+            // A binary file whose header starts with "solid" and whose count is too small.
+            if looks_binary && expected_size.is_some_and(|expected| expected < size) {
+                check_trailing_records(bytes, declared.unwrap_or(0), source)?;
+            }
+            // A binary file whose header starts with "solid" but whose size is wrong lands
+            // here; say so, or the user only sees a baffling ascii error (or, with no line
+            // break in its bytes, "no vertices").
+            let hint = |message: String| match (declared, expected_size) {
+                (Some(n), Some(expected)) if looks_binary => format!(
+                    "{message} (if this is a binary STL, it is truncated or padded: its header \
+                     declares {n} triangles, {expected} bytes, and the file has {size})"
+                ),
+                _ => message,
+            };
+            match parse_ascii(bytes, source) {
+                Ok(data) if looks_binary && data.positions.is_empty() => {
+                    Err(source.whole(hint("no facets in a file that starts with 'solid'".into())))
+                }
+                Ok(data) => Ok(data),
+                Err(Error::Parse {
                     path,
                     location,
-                    message: format!(
-                        "{message} (if this is a binary STL, it is truncated or padded: its \
-                     header declares {} triangles, {expected} bytes, and the file has {size})",
-                        declared.unwrap_or(0)
-                    ),
-                },
-                (e, _) => e,
-            })
+                    message,
+                }) => Err(Error::Parse {
+                    path,
+                    location,
+                    message: hint(message),
+                }),
+                Err(e) => Err(e),
+            }
         }
         _ => Err(source.at_byte(
             bytes.len(),
@@ -99,6 +121,48 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
             ),
         )),
     }
+}
+
+/// Refuses a binary file whose bytes after the `declared` triangles are whole records that
+/// look like triangles (see the module docs).
+fn check_trailing_records(bytes: &[u8], declared: usize, source: Source<'_>) -> Result<()> {
+    let end = PREAMBLE_BYTES + declared * RECORD_BYTES;
+    let trailing = &bytes[end.min(bytes.len())..];
+    if trailing.is_empty()
+        || trailing.len() % RECORD_BYTES != 0
+        || !trailing
+            .chunks_exact(RECORD_BYTES)
+            .all(looks_like_a_triangle)
+    {
+        return Ok(());
+    }
+    let extra = trailing.len() / RECORD_BYTES;
+    let total = declared + extra;
+    Err(source.at_byte(
+        end,
+        format!(
+            "the binary STL header declares {declared} triangles but the file holds {total} \
+             whole 50-byte records that look like triangles ({} bytes): the {extra} from here \
+             on are not padding, and the count in the header (bytes 80 to 83) is probably \
+             wrong; set it to {total} to read them all, or cut the file at byte {end} to drop \
+             them",
+            bytes.len()
+        ),
+    ))
+}
+
+/// True for a 50-byte record whose twelve numbers (normal and corners) are finite and which is
+/// neither all zero bytes nor all printable text (padding some exporters add).
+fn looks_like_a_triangle(record: &[u8]) -> bool {
+    let numbers = &record[..48.min(record.len())];
+    let finite = numbers
+        .chunks_exact(4)
+        .all(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]).is_finite());
+    let zeros = numbers.iter().all(|&b| b == 0);
+    let text = record
+        .iter()
+        .all(|&b| b.is_ascii_graphic() || b.is_ascii_whitespace());
+    finite && !zeros && !text
 }
 
 fn parse_binary(bytes: &[u8], triangles: usize, source: Source<'_>) -> Result<MeshData> {
@@ -139,19 +203,36 @@ fn parse_binary(bytes: &[u8], triangles: usize, source: Source<'_>) -> Result<Me
     })
 }
 
+/// Where an ascii STL reader is in the nesting of `solid`, `facet` and `outer loop`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Nesting {
+    /// Before the first `solid` or after an `endsolid`.
+    Outside,
+    /// Between `solid` and `endsolid`, outside a facet.
+    Solid,
+    /// Between `facet` and `endfacet`, outside its loop.
+    Facet,
+    /// Between `outer loop` and `endloop`.
+    Loop,
+}
+
 fn parse_ascii(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
     let mut welder = Welder::with_capacity(bytes.len() / 500);
     let mut faces = Vec::with_capacity(bytes.len() / 250);
     let mut corners: Vec<u32> = Vec::with_capacity(3);
-    let mut in_loop = false;
+    let mut nesting = Nesting::Outside;
+    let mut facets = 0usize;
+    let mut last_line = 0;
     for (line, text) in Lines::new(bytes) {
+        last_line = line;
         let mut tokens = Tokens::new(text);
         let Some(keyword) = tokens.next() else {
             continue;
         };
         let is = |k: &str| keyword.eq_ignore_ascii_case(k.as_bytes());
-        if is("vertex") {
-            if !in_loop {
+        // `(expected, next)`: the nesting the keyword needs and the one it leads to.
+        let (expected, next) = if is("vertex") {
+            if nesting != Nesting::Loop {
                 return Err(source.at_line(line, "vertex outside an 'outer loop'"));
             }
             let mut p = [0.0f64; 3];
@@ -161,19 +242,27 @@ fn parse_ascii(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
                     .map_err(|m| source.at_line(line, m))?;
             }
             corners.push(welder.index(p));
+            continue;
+        } else if is("solid") {
+            (Nesting::Outside, Nesting::Solid)
+        } else if is("facet") {
+            (Nesting::Solid, Nesting::Facet)
         } else if is("outer") {
-            in_loop = true;
             corners.clear();
+            (Nesting::Facet, Nesting::Loop)
         } else if is("endloop") {
-            if corners.len() < 3 {
+            if nesting == Nesting::Loop && corners.len() < 3 {
                 return Err(source.at_line(
                     line,
                     format!("facet with {} vertices (at least 3 needed)", corners.len()),
                 ));
             }
-            push_fan(&mut faces, &corners);
-            in_loop = false;
-        } else if !(is("solid") || is("endsolid") || is("facet") || is("endfacet")) {
+            (Nesting::Loop, Nesting::Facet)
+        } else if is("endfacet") {
+            (Nesting::Facet, Nesting::Solid)
+        } else if is("endsolid") {
+            (Nesting::Solid, Nesting::Outside)
+        } else {
             return Err(source.at_line(
                 line,
                 format!(
@@ -182,18 +271,47 @@ fn parse_ascii(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
                     show(keyword)
                 ),
             ));
+        };
+        if nesting != expected {
+            return Err(source.at_line(
+                line,
+                format!("'{}' out of place {}", show(keyword), misplaced(nesting)),
+            ));
         }
+        if next == Nesting::Facet && nesting == Nesting::Loop {
+            push_fan(&mut faces, &corners);
+            facets += 1;
+        }
+        nesting = next;
     }
-    if in_loop {
-        return Err(source.at_line(
-            Lines::new(bytes).count(),
-            "truncated data: the file ends inside a facet",
-        ));
+    let end = match nesting {
+        Nesting::Outside => None,
+        // A `solid` line alone: left to the "no vertices" error.
+        Nesting::Solid if facets == 0 => None,
+        Nesting::Solid => Some(format!(
+            "truncated data: the file ends after {facets} facets without the 'endsolid' line"
+        )),
+        Nesting::Facet | Nesting::Loop => {
+            Some("truncated data: the file ends inside a facet".to_string())
+        }
+    };
+    if let Some(message) = end {
+        return Err(source.at_line(last_line.max(1), message));
     }
     Ok(MeshData {
         positions: welder.positions,
         faces,
     })
+}
+
+/// Where the reader is, and the keywords that may come there.
+fn misplaced(nesting: Nesting) -> &'static str {
+    match nesting {
+        Nesting::Outside => "outside a solid: expected 'solid'",
+        Nesting::Solid => "between facets: expected 'facet' or 'endsolid'",
+        Nesting::Facet => "in a facet, outside its loop: expected 'outer loop' or 'endfacet'",
+        Nesting::Loop => "in a loop: expected 'vertex' or 'endloop'",
+    }
 }
 
 /// Gives one index to each distinct position (bitwise, +0 = −0), in order of first
@@ -249,8 +367,8 @@ pub(super) fn write<W: Write>(mut out: W, mesh: &TriMesh) -> std::io::Result<()>
                 return Err(std::io::Error::new(
                     std::io::ErrorKind::InvalidData,
                     format!(
-                        "triangle {f}: {value} does not fit the single precision of STL (use \
-                         OBJ, PLY or OFF)"
+                        "triangle {f}: {value:e} does not fit the single precision of STL \
+                         (use OBJ, PLY or OFF)"
                     ),
                 ));
             }
@@ -404,6 +522,137 @@ mod tests {
             "t.stl: line 4: truncated data: the file ends inside a facet"
         );
         assert!(error(b"solid x\nfacett\n").starts_with("t.stl: line 2: unexpected 'facett'"));
+    }
+
+    #[test]
+    fn binary_records_beyond_the_declared_count_are_an_error() {
+        // Two triangles under a header that declares one (or none: exporters that never go
+        // back to write the count).
+        let mut bytes = binary(b"x", &SQUARE);
+        bytes[80..84].copy_from_slice(&1u32.to_le_bytes());
+        assert_eq!(
+            error(&bytes),
+            "t.stl: byte 134: the binary STL header declares 1 triangles but the file holds 2 \
+             whole 50-byte records that look like triangles (184 bytes): the 1 from here on are \
+             not padding, and the count in the header (bytes 80 to 83) is probably wrong; set \
+             it to 2 to read them all, or cut the file at byte 134 to drop them"
+        );
+        bytes[80..84].copy_from_slice(&0u32.to_le_bytes());
+        assert!(error(&bytes).starts_with("t.stl: byte 84: the binary STL header declares 0 "));
+        // The same under a header that starts with "solid" (first read as ascii).
+        let mut bytes = binary(b"solid x", &SQUARE);
+        bytes[80..84].copy_from_slice(&1u32.to_le_bytes());
+        assert!(error(&bytes).starts_with("t.stl: byte 134: the binary STL header declares 1 "));
+    }
+
+    #[test]
+    fn padding_after_binary_records_is_tolerated() {
+        let square = binary(b"x", &SQUARE);
+        let text = b"padded with a text of exactly fifty bytes, for fun";
+        assert_eq!(text.len(), RECORD_BYTES);
+        let mut not_finite = binary(b"", &[[[f32::NAN; 3]; 3]])[84..].to_vec();
+        not_finite[0] = 1;
+        for padding in [
+            vec![0u8; RECORD_BYTES],
+            vec![0u8; 3 * RECORD_BYTES],
+            text.to_vec(),
+            not_finite,
+            // A whole record of a triangle and 10 more bytes: not whole records.
+            [&square[84..134], &[7u8; 10][..]].concat(),
+        ] {
+            let mut bytes = square.clone();
+            bytes.extend_from_slice(&padding);
+            let m = parse_bytes(&bytes).unwrap();
+            assert_eq!(m.faces.len(), 2);
+        }
+    }
+
+    #[test]
+    fn ascii_cut_anywhere_is_an_error_at_a_line() {
+        let end = ASCII.find("endsolid").unwrap() + "endsolid".len();
+        // Shorter than "solid": taken for binary, an error at a byte. Up to the first facet:
+        // no vertices, which the front door refuses for every format.
+        let first_facet = ASCII.find("facet").unwrap();
+        for cut in 5..=first_facet {
+            assert_eq!(
+                parse_bytes(&ASCII.as_bytes()[..cut]).unwrap(),
+                MeshData::default()
+            );
+        }
+        for cut in first_facet + 1..end {
+            let e = error(&ASCII.as_bytes()[..cut]);
+            assert!(e.starts_with("t.stl: line "), "cut at {cut}: {e}");
+        }
+        for cut in end..=ASCII.len() {
+            assert_eq!(
+                parse_bytes(&ASCII.as_bytes()[..cut]).unwrap().faces.len(),
+                2
+            );
+        }
+        assert_eq!(
+            error(b"solid x\nfacet normal 0 0 1\n"),
+            "t.stl: line 2: truncated data: the file ends inside a facet"
+        );
+        assert_eq!(
+            error(
+                b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
+                    vertex 0 1 0\nendloop\nendfacet\n"
+            ),
+            "t.stl: line 8: truncated data: the file ends after 1 facets without the 'endsolid' \
+             line"
+        );
+    }
+
+    #[test]
+    fn ascii_nesting_is_checked() {
+        let without = |line: &str| error(ASCII.replacen(line, "", 1).as_bytes());
+        assert_eq!(
+            without("endloop\n"),
+            "t.stl: line 7: 'endfacet' out of place in a loop: expected 'vertex' or 'endloop'"
+        );
+        assert_eq!(
+            without("endfacet\n"),
+            "t.stl: line 8: 'FACET' out of place in a facet, outside its loop: expected 'outer \
+             loop' or 'endfacet'"
+        );
+        assert_eq!(
+            without("facet normal 0 0 1\n"),
+            "t.stl: line 2: 'outer' out of place between facets: expected 'facet' or 'endsolid'"
+        );
+        assert_eq!(
+            error(format!("{ASCII}facet normal 0 0 1\n").as_bytes()),
+            "t.stl: line 17: 'facet' out of place outside a solid: expected 'solid'"
+        );
+        // Several solids in a row are fine.
+        let twice = parse_bytes(format!("{ASCII}{ASCII}").as_bytes()).unwrap();
+        assert_eq!(twice.faces.len(), 4);
+    }
+
+    #[test]
+    fn ascii_with_lone_carriage_returns() {
+        let m = parse_bytes(ASCII.replace('\n', "\r").as_bytes()).unwrap();
+        assert_eq!(m, parse_bytes(ASCII.as_bytes()).unwrap());
+        let bad = ASCII
+            .replace("vertex 1 0 0", "vertex 1 zero 0")
+            .replace('\n', "\r");
+        assert_eq!(
+            error(bad.as_bytes()),
+            "t.stl: line 5: non-numeric token 'zero' where the y coordinate was expected"
+        );
+    }
+
+    #[test]
+    fn huge_values_are_written_short_in_the_error() {
+        let mesh = TriMesh::from_arrays(
+            vec![[0.0, 0.0, 0.0], [1e100, 0.0, 0.0], [0.0, 1e100, 0.0]],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
+        let e = write(Vec::new(), &mesh).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "triangle 0: 1e100 does not fit the single precision of STL (use OBJ, PLY or OFF)"
+        );
     }
 
     #[test]

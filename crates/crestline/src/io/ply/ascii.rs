@@ -1,6 +1,7 @@
 //! The ascii PLY body: whitespace-separated numbers, one element per line.
 
 use super::{Block, Fault, Location, Scalar, Values, Words, parse_f64, parse_i64, show};
+use crate::io::text::is_integer_token;
 
 /// Ascii values: whitespace-separated tokens across lines.
 pub(super) struct Ascii<'a> {
@@ -17,16 +18,24 @@ impl Ascii<'_> {
 
 impl Values for Ascii<'_> {
     #[inline]
-    fn float(&mut self, _ty: Scalar) -> Result<f64, Fault> {
+    fn float(&mut self, ty: Scalar) -> Result<f64, Fault> {
         let w = self.word()?;
-        parse_f64(w).ok_or_else(|| Fault::NotNumber(show(w)))
+        let x = parse_f64(w).ok_or_else(|| Fault::NotNumber(show(w)))?;
+        // A `float` that a binary file could not hold (it would be read as infinite). Written
+        // `inf` or `nan` it is left to the caller, as in binary.
+        if ty == Scalar::F32 && x.is_finite() && (x as f32).is_infinite() {
+            return Err(Fault::OutOfRange("float", show(w)));
+        }
+        Ok(x)
     }
 
     #[inline]
-    fn int(&mut self, _ty: Scalar) -> Result<i64, Fault> {
+    fn int(&mut self, ty: Scalar) -> Result<i64, Fault> {
         let w = self.word()?;
         parse_i64(w).ok_or_else(|| {
-            if parse_f64(w).is_some() {
+            if is_integer_token(w) {
+                Fault::OutOfRange(ty.name(), show(w))
+            } else if parse_f64(w).is_some() {
                 Fault::NotInteger(show(w))
             } else {
                 Fault::NotNumber(show(w))

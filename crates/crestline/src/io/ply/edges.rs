@@ -128,18 +128,25 @@ fn walk<V: Values>(header: &Header, values: &mut V, source: Source<'_>) -> Resul
                         &mut edge,
                         vertex_count,
                     ),
-                    Kind::List { count, item } => values
-                        .int(count)
-                        .and_then(|n| {
-                            // A negative count reads as no values; the next value then fails
-                            // to parse where it stands.
-                            values.skip(item, usize::try_from(n).unwrap_or(0))
-                        })
-                        .map_err(Read::Fault),
+                    Kind::List { count, item } => match values.int(count) {
+                        // Read as no values, a negative length would misplace every value
+                        // after it (in binary, silently).
+                        Ok(n) if n < 0 => Err(Read::NegativeLength(n)),
+                        Ok(n) => values
+                            .skip(item, usize::try_from(n).unwrap_or(usize::MAX))
+                            .map_err(Read::Fault),
+                        Err(f) => Err(Read::Fault(f)),
+                    },
                 };
                 match read {
                     Ok(()) => {}
                     Err(Read::Fault(f)) => return Err(fault(values, record, f)),
+                    Err(Read::NegativeLength(n)) => {
+                        return Err(source.at(
+                            values.location(),
+                            format!("{} {record}: negative list length {n}", element.name),
+                        ));
+                    }
                     Err(Read::OutOfRange(i)) => {
                         return Err(source.at(
                             values.location(),
@@ -174,6 +181,7 @@ fn walk<V: Values>(header: &Header, values: &mut V, source: Source<'_>) -> Resul
 enum Read {
     Fault(Fault),
     OutOfRange(i64),
+    NegativeLength(i64),
 }
 
 impl From<Fault> for Read {
@@ -209,4 +217,48 @@ fn read_scalar<V: Values>(
         _ => values.skip(ty, 1)?,
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn error(bytes: &[u8]) -> String {
+        parse_edges(bytes, Source::new(Path::new("l.ply")))
+            .unwrap_err()
+            .to_string()
+    }
+
+    const HEADER: &str = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n\
+        property float y\nproperty float z\nelement edge 1\nproperty int vertex1\n\
+        property int vertex2\nproperty list int float extra\nend_header\n";
+
+    #[test]
+    fn negative_list_lengths_are_errors() {
+        let body = "0 0 0\n1 0 0\n0 1 -2 7\n";
+        assert_eq!(
+            error(format!("{HEADER}{body}").as_bytes()),
+            "l.ply: line 14: edge 0: negative list length -2"
+        );
+        // In binary the values after it would have been read from the wrong place.
+        let mut bytes = HEADER.replace("ascii", "binary_little_endian").into_bytes();
+        let header = bytes.len();
+        for x in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0] {
+            bytes.extend_from_slice(&x.to_le_bytes());
+        }
+        for i in [0i32, 1, -2] {
+            bytes.extend_from_slice(&i.to_le_bytes());
+        }
+        assert_eq!(
+            error(&bytes),
+            format!(
+                "l.ply: byte {}: edge 0: negative list length -2",
+                header + 24 + 8
+            )
+        );
+        let ok = format!("{HEADER}0 0 0\n1 0 0\n0 1 2 7 8\n");
+        let edges = parse_edges(ok.as_bytes(), Source::new(Path::new("l.ply"))).unwrap();
+        assert_eq!(edges.edges[0].ends, [0, 1]);
+    }
 }

@@ -1,6 +1,7 @@
 //! The PLY header: elements, their properties and the roles crestline reads them for.
 
-use super::{Lines, PlyEncoding, Result, Source, parse_i64, show};
+use super::{Lines, PlyEncoding, Result, Source, show};
+use crate::io::text::parse_count;
 
 /// A scalar type of the format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -28,6 +29,20 @@ impl Scalar {
             b"double" | b"float64" => Scalar::F64,
             _ => return None,
         })
+    }
+
+    /// The type's name in the format's definition.
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            Scalar::I8 => "char",
+            Scalar::U8 => "uchar",
+            Scalar::I16 => "short",
+            Scalar::U16 => "ushort",
+            Scalar::I32 => "int",
+            Scalar::U32 => "uint",
+            Scalar::F32 => "float",
+            Scalar::F64 => "double",
+        }
     }
 
     pub(super) fn size(self) -> usize {
@@ -124,14 +139,7 @@ fn parse_element<'a>(mut tokens: impl Iterator<Item = &'a [u8]>) -> Result<Eleme
     let (Some(name), Some(count)) = (tokens.next(), tokens.next()) else {
         return Err("element needs a name and a count".into());
     };
-    let count = parse_i64(count)
-        .and_then(|c| usize::try_from(c).ok())
-        .ok_or_else(|| {
-            format!(
-                "element count '{}' is not a non-negative integer",
-                show(count)
-            )
-        })?;
+    let count = parse_count(count, "element count")?;
     Ok(Element {
         name: String::from_utf8_lossy(name).into_owned(),
         count,
@@ -171,7 +179,11 @@ pub(super) fn parse_header(bytes: &[u8], source: Source<'_>) -> Result<Header> {
     let malformed =
         |line: usize, message: String| source.at_line(line, format!("malformed header: {message}"));
     let mut lines = Lines::new(bytes);
-    match lines.next() {
+    let first = lines.next();
+    // A header whose lines end in a lone CR (classic Mac OS): its `end_header` line ends
+    // there too, and an LF after it is the first byte of a binary body.
+    let lone_cr = lines.offset() > 0 && bytes[lines.offset() - 1] == b'\r';
+    match first {
         Some((_, first)) if first.trim_ascii() == b"ply" => {}
         Some((_, first)) => {
             return Err(source.at_line(
@@ -241,11 +253,15 @@ pub(super) fn parse_header(bytes: &[u8], source: Source<'_>) -> Result<Header> {
         return Err(malformed(end_line, "no format line".into()));
     };
     let vertex_count = assign_roles(&mut elements).map_err(|m| malformed(end_line, m))?;
+    let mut body_offset = lines.offset();
+    if lone_cr && encoding != PlyEncoding::Ascii && bytes[..body_offset].ends_with(b"\r\n") {
+        body_offset -= 1;
+    }
     Ok(Header {
         encoding,
         elements,
         vertex_count,
-        body_offset: lines.offset(),
+        body_offset,
         // An empty body: errors point at the last line, end_header.
         body_line: if lines.offset() < bytes.len() {
             end_line + 1

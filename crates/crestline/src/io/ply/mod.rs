@@ -14,7 +14,11 @@
 //! all three encodings.
 //!
 //! Errors give a line for the header and the ascii body, and a byte offset in the file for
-//! the binary body.
+//! the binary body. Counts must be non-negative integers, list lengths too. In ascii, a value
+//! of a `float` property beyond single precision (`1e39`) is an error, as in binary, where it
+//! could only be infinite; an integer beyond 64 bits is one as well. Header lines may end in
+//! LF, CR LF or a lone CR; after a header of lone CRs an LF is the first byte of a binary
+//! body, not part of the `end_header` line.
 //!
 //! Writing: [`PlyWriter`] writes `x y z` as `double` (exact), extra per-vertex scalar
 //! properties as `float` or `double`, and one `face` element of triangles with a `uchar`
@@ -69,6 +73,10 @@ enum Fault {
     NotNumber(String),
     /// A number where an integer is needed (ascii).
     NotInteger(String),
+    /// A number beyond what the property's type holds (ascii): an integer beyond 64 bits, or
+    /// a `float` (single precision) value that would be infinite, as a binary file cannot
+    /// hold. Type name and token.
+    OutOfRange(&'static str, String),
 }
 
 impl Fault {
@@ -82,6 +90,9 @@ impl Fault {
             ),
             Fault::NotNumber(t) => format!("non-numeric token '{t}' in {what}"),
             Fault::NotInteger(t) => format!("'{t}' in {what} is not an integer"),
+            Fault::OutOfRange(ty, t) => {
+                format!("'{t}' in {what} is out of range for its type ({ty})")
+            }
         }
     }
 }

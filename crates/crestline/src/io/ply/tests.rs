@@ -484,3 +484,80 @@ fn bad_properties_are_refused() {
             .is_err()
     );
 }
+
+#[test]
+fn ascii_float_values_beyond_single_precision_are_errors() {
+    let with = |body: &str| error(format!("{ASCII_HEADER}{body}").as_bytes());
+    // Read as `float`, 1e39 is infinite: as in binary, where it can only be inf.
+    assert_eq!(
+        with("0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n"),
+        "t.ply: line 11: '1e39' in vertex 1 is out of range for its type (float)"
+    );
+    assert_eq!(
+        with("0 0 0\n1 0 0\n0 1 -3.5e38\n3 0 1 2\n"),
+        "t.ply: line 12: '-3.5e38' in vertex 2 is out of range for its type (float)"
+    );
+    // Up to the largest float, and beyond it as `double`.
+    let m =
+        parse_bytes(format!("{ASCII_HEADER}0 0 0\n3.4028235e38 0 0\n0 1 0\n3 0 1 2\n").as_bytes())
+            .unwrap();
+    assert_eq!(m.positions[1][0], 3.4028235e38);
+    let double = ASCII_HEADER.replace("float x", "double x");
+    let m = parse_bytes(format!("{double}0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n").as_bytes()).unwrap();
+    assert_eq!(m.positions[1][0], 1e39);
+}
+
+#[test]
+fn negative_and_huge_numbers_say_so() {
+    assert_eq!(
+        error(b"ply\nformat ascii 1.0\nelement vertex -3\n"),
+        "t.ply: line 3: malformed header: element count -3 is not a non-negative integer (a \
+         count cannot be negative)"
+    );
+    let digits = "9".repeat(300);
+    assert_eq!(
+        error(format!("ply\nformat ascii 1.0\nelement vertex {digits}\n").as_bytes()),
+        format!(
+            "t.ply: line 3: malformed header: element count '{}…' is too large",
+            &digits[..40]
+        )
+    );
+    assert_eq!(
+        error(format!("{ASCII_HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 {digits}\n").as_bytes()),
+        format!(
+            "t.ply: line 13: '{}…' in face 0 is out of range for its type (int)",
+            &digits[..40]
+        )
+    );
+}
+
+#[test]
+fn lone_carriage_returns_end_lines() {
+    let text = format!("{ASCII_HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").replace('\n', "\r");
+    let m = parse_bytes(text.as_bytes()).unwrap();
+    assert_eq!(m.positions.len(), 3);
+    assert_eq!(m.faces, vec![[0, 1, 2]]);
+    let bad = format!("{ASCII_HEADER}0 0 0\n1 0 0\n0 one 0\n3 0 1 2\n").replace('\n', "\r");
+    assert_eq!(
+        error(bad.as_bytes()),
+        "t.ply: line 12: non-numeric token 'one' in vertex 2"
+    );
+    // A binary body after a header of lone CRs, starting with an LF byte (10 as the first
+    // byte of x): the LF is data, not the end of "end_header\r".
+    let mut points = TRIANGLE;
+    points[0][0] = f32::from_le_bytes([10, 0, 0, 0]);
+    let lf = binary_triangle(points, &[0, 1, 2]);
+    let mut cr = lf.clone();
+    let header = BINARY_HEADER.len();
+    for b in &mut cr[..header] {
+        if *b == b'\n' {
+            *b = b'\r';
+        }
+    }
+    assert_eq!(cr[header], b'\n');
+    assert_eq!(parse_bytes(&cr).unwrap(), parse_bytes(&lf).unwrap());
+    assert_eq!(
+        parse_bytes(&cr).unwrap().positions[0][0],
+        f64::from(points[0][0])
+    );
+}
