@@ -234,3 +234,20 @@ fn hpw_polylines_never_repeat_a_point_or_cross_themselves() {
         }
     }
 }
+
+#[test]
+fn pre_smoothing_that_leaves_nearly_flat_triangles_still_smooths_the_extremalities() {
+    // Three steps of mean-curvature flow leave the cow with triangles of almost no area next
+    // to cotangent weights at their bound: single-precision conjugate gradients used up
+    // their iterations at a residual just above the tolerance there (the extremality
+    // smoothing failed); the step is now taken again in double precision. One triangle
+    // alone, which the flow shrinks, stalled the same way.
+    let cow = load_shared("cow.obj");
+    let mut options = ExtractOptions::default();
+    options.pre_smoothing.steps = 3;
+    let found = extract(&cow, &options).unwrap_or_else(|e| panic!("{e}"));
+    assert!(found.stats.lines > 0);
+    let triangle =
+        TriMesh::new(vec![Vec3::zeros(), Vec3::x(), Vec3::y()], vec![[0, 1, 2]]).unwrap();
+    extract(&triangle, &options).unwrap_or_else(|e| panic!("{e}"));
+}

@@ -16,6 +16,14 @@
 //! - **Warm start.** Each step starts from the previous values, or from zero when that is
 //!   closer (a rough field that the step will mostly remove).
 //!
+//! **Fallback.** On some systems single precision cannot finish: where triangles of almost
+//! no area meet cotangent weights at their bound (a surface after a few steps of
+//! mean-curvature flow: the cow with `--pre-smooth 3`), rounds of single-precision CG lose
+//! their conjugacy and use up the iterations at a residual just above the tolerance. A step
+//! that fails in mixed precision is taken again from its start values by plain Jacobi CG in
+//! double precision on the same rows ([`ConnectionSystem::double_precision_step`]), which
+//! converges there; an error is returned only when that fails too.
+//!
 //! Chunks of fixed size are summed in order, so results do not depend on the thread count,
 //! and flipping a field's sign at a vertex with the σ of its edges flips the iterates there
 //! exactly (the sign-independence of HPW's smoothing).
@@ -422,11 +430,10 @@ impl<'m> ConnectionSystem<'m> {
         }
     }
 
-    fn not_converged(&self, iterations: usize, relative: f64) -> Error {
+    fn not_converged(&self, iterations: usize, relative: f64, tolerance: f64) -> Error {
         Error::Solver(format!(
             "conjugate gradients did not converge in {iterations} iterations (relative \
-             residual {relative:.3e}, tolerance {:.1e})",
-            self.options.tolerance
+             residual {relative:.3e}, tolerance {tolerance:.1e})"
         ))
     }
 
@@ -455,10 +462,102 @@ impl<'m> ConnectionSystem<'m> {
             e: vec![[0.0; K]; n],
         };
         let mut iterations = 0;
+        // The start values of the step, to take it again in double precision.
+        let mut start: Vec<Vec<f64>> = Vec::new();
         for _ in 0..steps {
-            iterations += self.jacobi_step(x, &mut work, tolerance)?;
+            start.resize_with(x.len(), Vec::new);
+            for (copy, field) in start.iter_mut().zip(x.iter()) {
+                copy.clear();
+                copy.extend_from_slice(field);
+            }
+            match self.jacobi_step(x, &mut work, tolerance) {
+                Ok(taken) => iterations += taken,
+                Err(_) => {
+                    for (field, copy) in x.iter_mut().zip(&start) {
+                        field.copy_from_slice(copy);
+                    }
+                    iterations += self.double_precision_step(x, tolerance)?;
+                }
+            }
         }
         Ok(iterations)
+    }
+
+    /// One step by plain Jacobi-preconditioned CG in double precision on the same rows, field
+    /// by field, from the step's start values in `x` (or from zero when that is closer, as
+    /// [`ConnectionSystem::jacobi_step`] starts): the fallback of a step that mixed precision
+    /// cannot finish (see the module docs). The stopping test is the same. Returns the
+    /// iterations of the slowest field.
+    fn double_precision_step(&self, x: &mut [&mut [f64]], tolerance: f64) -> Result<usize> {
+        let n = self.diagonal.len();
+        let chunked_sum = |terms: &(dyn Fn(usize) -> f64 + Sync)| -> f64 {
+            let partials: Vec<f64> = (0..n.div_ceil(CHUNK))
+                .into_par_iter()
+                .map(|c| (c * CHUNK..((c + 1) * CHUNK).min(n)).map(terms).sum())
+                .collect();
+            partials.iter().sum()
+        };
+        let mut slowest = 0;
+        let (mut r, mut p, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for (f, u) in x.iter_mut().enumerate() {
+            let sign = |bits: u32| if (bits >> f) & 1 == 1 { -1.0 } else { 1.0 };
+            // out = A p, A = D − t W_σ.
+            let multiply = |p: &[f64], out: &mut [f64]| {
+                out.par_iter_mut().enumerate().for_each(|(v, out)| {
+                    let sum: f64 = self.row(v).map(|(q, w, bits)| sign(bits) * w * p[q]).sum();
+                    *out = self.diagonal[v] * p[v] - self.time * sum;
+                });
+            };
+            let b: Vec<f64> = (0..n)
+                .into_par_iter()
+                .map(|v| self.mass(v) * u[v])
+                .collect();
+            let rhs_norm2 = chunked_sum(&|v| b[v] * b[v] / self.diagonal[v]);
+            if !rhs_norm2.is_finite() {
+                return Err(not_finite());
+            }
+            multiply(u, &mut q);
+            r.par_iter_mut()
+                .enumerate()
+                .for_each(|(v, r)| *r = b[v] - q[v]);
+            let mut rz = chunked_sum(&|v| r[v] * r[v] / self.diagonal[v]);
+            if !rz.is_finite() {
+                return Err(not_finite());
+            }
+            if rz > rhs_norm2 {
+                u.fill(0.0);
+                r.copy_from_slice(&b);
+                rz = rhs_norm2;
+            }
+            let threshold = tolerance * tolerance * rhs_norm2;
+            p.par_iter_mut()
+                .enumerate()
+                .for_each(|(v, p)| *p = r[v] / self.diagonal[v]);
+            let mut iterations = 0;
+            while rz > threshold {
+                if iterations == self.options.max_iterations {
+                    return Err(self.not_converged(iterations, (rz / rhs_norm2).sqrt(), tolerance));
+                }
+                iterations += 1;
+                multiply(&p, &mut q);
+                let alpha = Self::step_length(rz, chunked_sum(&|v| p[v] * q[v]), iterations)?;
+                u.par_iter_mut()
+                    .zip(r.par_iter_mut())
+                    .enumerate()
+                    .for_each(|(v, (u, r))| {
+                        *u += alpha * p[v];
+                        *r -= alpha * q[v];
+                    });
+                let next = chunked_sum(&|v| r[v] * r[v] / self.diagonal[v]);
+                let beta = next / rz;
+                rz = next;
+                p.par_iter_mut()
+                    .enumerate()
+                    .for_each(|(v, p)| *p = r[v] / self.diagonal[v] + beta * *p);
+            }
+            slowest = slowest.max(iterations);
+        }
+        Ok(slowest)
     }
 
     /// One step of [`ConnectionSystem::solve_jacobi`]; returns its iterations.
@@ -499,7 +598,8 @@ impl<'m> ConnectionSystem<'m> {
             let target: [f64; K] = std::array::from_fn(|f| {
                 (0.25 * threshold[f]).max(ROUND_REDUCTION * ROUND_REDUCTION * rz[f])
             });
-            iterations += self.correction::<K>(work, target, done, iterations, &rhs_norm2)?;
+            iterations +=
+                self.correction::<K>(work, target, done, iterations, &rhs_norm2, tolerance)?;
             // The residual of the new iterate in double precision, then x = iterate.
             let next = if first {
                 first = false;
@@ -643,6 +743,7 @@ impl<'m> ConnectionSystem<'m> {
         skip: [bool; K],
         before: usize,
         rhs_norm2: &[f64; K],
+        tolerance: f64,
     ) -> Result<usize> {
         let signs = sign_table::<f32, K>();
         let mut rz = work.start_correction();
@@ -650,9 +751,11 @@ impl<'m> ConnectionSystem<'m> {
         let mut iterations = 0;
         while !done.iter().all(|&d| d) {
             if before + iterations == self.options.max_iterations {
-                return Err(
-                    self.not_converged(before + iterations, worst_relative(&rz, rhs_norm2, &done))
-                );
+                return Err(self.not_converged(
+                    before + iterations,
+                    worst_relative(&rz, rhs_norm2, &done),
+                    tolerance,
+                ));
             }
             iterations += 1;
 

@@ -236,3 +236,53 @@ fn steps_within_a_looser_tolerance_stop_there_and_never_below_the_solvers() {
     assert_eq!(same_iterations, tight_iterations);
     assert_eq!(same, tight);
 }
+
+#[test]
+fn the_double_precision_fallback_solves_the_same_system() {
+    // The step that mixed precision cannot finish is taken again this way (module docs):
+    // from the same start, with the same signs, it must meet the same stopping test.
+    let mesh = shapes::torus(3.0, 1.0, 30, 12);
+    let flips: Vec<bool> = (0..mesh.topology().num_edges())
+        .map(|e| e % 5 == 0)
+        .collect();
+    let time = 0.7;
+    let sys = system(
+        &mesh,
+        time,
+        &[None, Some(&flips)],
+        ConjugateGradientOptions::DEFAULT,
+    );
+    let u0: Vec<f64> = mesh.positions().iter().map(|p| p.x * p.y + p.z).collect();
+    let (mut a, mut b) = (u0.clone(), u0.clone());
+    let iterations = sys
+        .double_precision_step(&mut [&mut a, &mut b], 1e-10)
+        .unwrap();
+    assert!(iterations > 0);
+    let check = |u: &[f64], flips: Option<&[bool]>| {
+        let lhs = apply(&mesh, time, flips, u);
+        let m = lumped_mass(&mesh, mesh.positions());
+        let (mut r2, mut b2) = (0.0f64, 0.0f64);
+        for v in 0..u.len() {
+            r2 += (m[v] * u0[v] - lhs[v]).powi(2);
+            b2 += (m[v] * u0[v]).powi(2);
+        }
+        (r2 / b2).sqrt()
+    };
+    assert!(check(&a, None) < 1e-8, "{}", check(&a, None));
+    assert!(
+        check(&b, Some(&flips)) < 1e-8,
+        "{}",
+        check(&b, Some(&flips))
+    );
+    // And the mixed-precision step agrees with it to its tolerance.
+    let (mut c, mut d) = (u0.clone(), u0.clone());
+    sys.step(&mut [&mut c, &mut d]).unwrap();
+    let worst = a
+        .iter()
+        .zip(&c)
+        .chain(b.iter().zip(&d))
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    let scale = u0.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(worst < 1e-4 * scale, "{worst} against {scale}");
+}
