@@ -388,3 +388,27 @@ proptest::proptest! {
         assert_all_finite(&c, m.num_vertices());
     }
 }
+
+#[test]
+fn wide_cubic_fits_stay_finite_in_size_across_sharp_creases() {
+    // Rings of 4 and more reach across fandisk's creases to faces whose normals are nearly
+    // perpendicular to the fitting frame's: as slopes −a/c, c → 0, they gave curvatures up
+    // to 9·10⁷ (258 vertices above 1000 with 4 rings). Taken as `c h_x = −a` (module docs of
+    // `cubic_fit`, *Slopes near the horizon*) no curvature radius falls below a twentieth of
+    // an edge; a crease of any angle sampled by edges of length h bends by at most about
+    // 2π/h.
+    let mesh = crate::common::load_shared("fandisk.obj");
+    let h = crestline::mesh::mean_edge_length(&mesh);
+    for rings in [4, 6] {
+        let c = cubic_fit(&mesh, &CubicFitOptions::DEFAULT.with_rings(rings)).unwrap();
+        let worst = c
+            .k_max
+            .iter()
+            .chain(&c.k_min)
+            .fold(0.0f64, |m, k| m.max(k.abs()));
+        assert!(
+            worst * h < 20.0,
+            "rings {rings}: |k| up to {worst} (h = {h})"
+        );
+    }
+}
