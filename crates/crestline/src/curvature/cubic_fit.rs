@@ -56,7 +56,7 @@
 //! neighbour weighs in as much as its normal says about the surface over the tangent
 //! plane (nothing, at the horizon). Where the normals are close to n (c ≈ 1: smooth
 //! surfaces, small rings) the fit is the paper's to within 1 − c. Measured: fandisk rings
-//! 4 and 6, no vertex with |k| > 1000 (see `tests`).
+//! 4 and 6, no vertex with |k| > 1000 (`tests/suite/curvature_robust.rs`).
 //!
 //! **Fallbacks** (all counted in [`Curvature::fallback_vertices`], never NaN, never a panic):
 //! fewer than seven equations or an ill-conditioned system in the requested k-ring → the ring
@@ -229,7 +229,9 @@ pub struct Sample {
 /// near the horizon*).
 #[inline]
 fn slopes(normal: Option<Vec3>) -> Option<(f64, f64, f64)> {
-    normal.filter(|n| n.z > 0.0).map(|n| (n.z, -n.x, -n.y))
+    // Of the unit normal: the weight `c` is a cosine whatever length the caller's normal has.
+    let n = normal?.try_normalize(0.0)?;
+    (n.z > 0.0).then_some((n.z, -n.x, -n.y))
 }
 
 /// Smallest acceptable ratio between the smallest and the largest diagonal entry of the

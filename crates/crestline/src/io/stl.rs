@@ -11,26 +11,29 @@
 //! Telling the two encodings apart: a binary file is an 80-byte header, a little-endian u32
 //! triangle count n and n 50-byte records, so its size is exactly 84 + 50·n. Many binary
 //! exporters start the header with `solid`, so that word alone proves nothing: a file whose
-//! size matches is binary; otherwise a file that starts with `solid` is ascii; otherwise it
-//! is binary, and a short one is truncated.
+//! size matches is binary; a file that starts with `solid` is ascii unless it holds zero
+//! bytes and more than its count's records (ascii text in bytes 80 to 83 declares hundreds of
+//! millions of triangles); a file that does not start with `solid` is binary, and a short one
+//! is truncated.
 //!
-//! Bytes after the last record of a binary file are tolerated when they are padding: a part
-//! of a record, zero bytes, text. When they are instead whole records that look like
-//! triangles (twelve finite numbers, neither all zero bytes nor all printable text), the
-//! header's count is wrong: exporters that write the count before they know it leave 0 or
-//! a partial count there. That is an error naming the offset of the first such record and
-//! both counts, rather than reading the triangles anyway: either number could be the wrong
-//! one (a file cut short with junk after it looks the same), the reader has no way to warn,
-//! and a mesh missing triangles or grown by garbage would go on silently into the
-//! algorithms. The message says how to repair the file.
+//! Bytes after the last record of a binary file (whatever its header starts with) are
+//! tolerated when they are padding: a part of a record, zero bytes, text. When they start
+//! instead with whole records that all look like triangles (twelve finite numbers, neither
+//! all zero bytes nor all printable text), the header's count is wrong: exporters that write
+//! the count before they know it leave 0 or a partial count there. That is an error naming
+//! the offset of the first such record and both counts, rather than reading the triangles
+//! anyway: either number could be the wrong one (a file cut short with junk after it looks
+//! the same), the reader has no way to warn, and a mesh missing triangles or grown by
+//! garbage would go on silently into the algorithms. The message says how to repair it.
 //!
 //! Ascii: `solid name`, then `facet normal nx ny nz`, `outer loop`, three `vertex x y z`,
 //! `endloop`, `endfacet`, ..., `endsolid name`; keywords are matched case-insensitively and
 //! several solids may follow each other. A loop with more than three vertices is
-//! fan-triangulated. The nesting is checked, so that a file cut anywhere (after `facet
-//! normal ...`, inside a loop, after an `endfacet` without the `endsolid`) or missing an
-//! `endloop` or `endfacet` is an error naming the line, not a mesh short of triangles. A
-//! `solid` line alone is left to the "no vertices" error of every format.
+//! fan-triangulated. The nesting is checked, so that a file cut inside a facet (after `facet
+//! normal ...`, inside a loop) or missing an `endloop` or `endfacet` is an error naming the
+//! line, not a mesh short of triangles. A missing `endsolid` after complete facets is
+//! tolerated, as other readers tolerate it (a file cut exactly between two facets cannot be
+//! told from it). A `solid` line alone is left to the "no vertices" error of every format.
 //!
 //! Writing emits binary STL; positions are rounded to `f32`, so it is the one lossy format.
 
@@ -82,9 +85,15 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
             }
         }
         _ if starts_with_solid => {
-            // A binary file whose header starts with "solid" and whose count is too small.
-            if looks_binary && expected_size.is_some_and(|expected| expected < size) {
-                check_trailing_records(bytes, declared.unwrap_or(0), source)?;
+            // A binary file whose header starts with "solid", followed by padding or by
+            // records its count leaves out. (Ascii text in bytes 80 to 83 declares hundreds
+            // of millions of triangles, far more than the file holds.)
+            if let (Some(n), Some(expected)) = (declared, expected_size)
+                && looks_binary
+                && expected < size
+            {
+                check_trailing_records(bytes, n, source)?;
+                return parse_binary(bytes, n, source);
             }
             // A binary file whose header starts with "solid" but whose size is wrong lands
             // here; say so, or the user only sees a baffling ascii error (or, with no line
@@ -128,15 +137,15 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
 fn check_trailing_records(bytes: &[u8], declared: usize, source: Source<'_>) -> Result<()> {
     let end = PREAMBLE_BYTES + declared * RECORD_BYTES;
     let trailing = &bytes[end.min(bytes.len())..];
-    if trailing.is_empty()
-        || trailing.len() % RECORD_BYTES != 0
+    // Whole records only: a part of one after them (a stray line end) does not hide them.
+    let extra = trailing.len() / RECORD_BYTES;
+    if extra == 0
         || !trailing
             .chunks_exact(RECORD_BYTES)
             .all(looks_like_a_triangle)
     {
         return Ok(());
     }
-    let extra = trailing.len() / RECORD_BYTES;
     let total = declared + extra;
     Err(source.at_byte(
         end,
@@ -221,7 +230,6 @@ fn parse_ascii(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
     let mut faces = Vec::with_capacity(bytes.len() / 250);
     let mut corners: Vec<u32> = Vec::with_capacity(3);
     let mut nesting = Nesting::Outside;
-    let mut facets = 0usize;
     let mut last_line = 0;
     for (line, text) in Lines::new(bytes) {
         last_line = line;
@@ -280,17 +288,13 @@ fn parse_ascii(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
         }
         if next == Nesting::Facet && nesting == Nesting::Loop {
             push_fan(&mut faces, &corners);
-            facets += 1;
         }
         nesting = next;
     }
     let end = match nesting {
-        Nesting::Outside => None,
-        // A `solid` line alone: left to the "no vertices" error.
-        Nesting::Solid if facets == 0 => None,
-        Nesting::Solid => Some(format!(
-            "truncated data: the file ends after {facets} facets without the 'endsolid' line"
-        )),
+        // Between facets: a missing 'endsolid' line is tolerated, as other readers do (a
+        // `solid` line alone is left to the "no vertices" error).
+        Nesting::Outside | Nesting::Solid => None,
         Nesting::Facet | Nesting::Loop => {
             Some("truncated data: the file ends inside a facet".to_string())
         }
@@ -543,6 +547,9 @@ mod tests {
         let mut bytes = binary(b"solid x", &SQUARE);
         bytes[80..84].copy_from_slice(&1u32.to_le_bytes());
         assert!(error(&bytes).starts_with("t.stl: byte 134: the binary STL header declares 1 "));
+        // A stray byte after the records does not hide them.
+        bytes.push(b'\n');
+        assert!(error(&bytes).starts_with("t.stl: byte 134: the binary STL header declares 1 "));
     }
 
     #[test]
@@ -557,14 +564,17 @@ mod tests {
             vec![0u8; 3 * RECORD_BYTES],
             text.to_vec(),
             not_finite,
-            // A whole record of a triangle and 10 more bytes: not whole records.
-            [&square[84..134], &[7u8; 10][..]].concat(),
+            // Less than a record.
+            vec![7u8; 10],
         ] {
-            let mut bytes = square.clone();
-            bytes.extend_from_slice(&padding);
-            let m = parse_bytes(&bytes).unwrap();
-            assert_eq!(m.faces.len(), 2);
+            for header in [&b"x"[..], b"solid x"] {
+                let mut bytes = binary(header, &SQUARE);
+                bytes.extend_from_slice(&padding);
+                let m = parse_bytes(&bytes).unwrap_or_else(|e| panic!("{e}"));
+                assert_eq!(m.faces.len(), 2);
+            }
         }
+        assert_eq!(square, binary(b"x", &SQUARE));
     }
 
     #[test]
@@ -580,7 +590,15 @@ mod tests {
             );
         }
         for cut in first_facet + 1..end {
-            let e = error(&ASCII.as_bytes()[..cut]);
+            // Cut after a whole facet: those facets (the 'endsolid' line is not needed).
+            let head = &ASCII[..cut];
+            let lower = head.to_ascii_lowercase();
+            if lower.trim_end().ends_with("endfacet") {
+                let facets = lower.matches("endfacet").count();
+                assert_eq!(parse_bytes(head.as_bytes()).unwrap().faces.len(), facets);
+                continue;
+            }
+            let e = error(head.as_bytes());
             assert!(e.starts_with("t.stl: line "), "cut at {cut}: {e}");
         }
         for cut in end..=ASCII.len() {
@@ -593,14 +611,9 @@ mod tests {
             error(b"solid x\nfacet normal 0 0 1\n"),
             "t.stl: line 2: truncated data: the file ends inside a facet"
         );
-        assert_eq!(
-            error(
-                b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
-                    vertex 0 1 0\nendloop\nendfacet\n"
-            ),
-            "t.stl: line 8: truncated data: the file ends after 1 facets without the 'endsolid' \
-             line"
-        );
+        let without_endsolid = b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n\
+            vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+        assert_eq!(parse_bytes(without_endsolid).unwrap().faces.len(), 1);
     }
 
     #[test]

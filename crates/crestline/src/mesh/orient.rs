@@ -1,4 +1,4 @@
-//! Consistent winding, and outward orientation of closed components.
+//! Consistent winding, and outward orientation of closed surfaces.
 //!
 //! Every curvature sign in the crate follows the winding of the triangles (see the module
 //! docs of [`crate::mesh`]): on a closed mesh wound clockwise seen from outside the normals
@@ -12,19 +12,21 @@
 //! directions. [`orient_outward`] takes two steps:
 //! 1. *Winding.* Within each patch of faces joined by edges with exactly two faces, it reverses
 //!    the triangles that disagree with the others, keeping the winding that most of the
-//!    patch's triangles have (a breadth-first walk gives each face its winding relative to
+//!    patch's triangles have (a walk over the patch gives each face its winding relative to
 //!    the first; the smaller of the two sets is reversed, at a tie the one without the
 //!    patch's first face). A patch in which the walk meets itself with the other winding has
 //!    none (a Möbius strip, a Klein bottle): it is left as it is and counted. Edges with more
 //!    than two faces do not join patches: which two of their faces belong together is not
 //!    known.
-//! 2. *Outward.* Components that are then closed and consistently wound have an inside and
-//!    an outside: those with negative signed volume are reversed. Open ones (a height field,
-//!    a scan with holes) keep the winding of step 1.
+//! 2. *Outward.* Patches that are closed (every edge of their faces has exactly two faces)
+//!    and consistently wound have an inside and an outside: those with negative signed
+//!    volume are reversed. Open ones (a height field, a scan with holes) keep the winding of
+//!    step 1. Where every vertex is manifold and every winding consistent, the patches are
+//!    the connected components (over shared vertices, as in [`super::MeshInfo`]) and are
+//!    found as those, without a walk over the faces; two shells touching at a vertex are
+//!    one component but two patches, each decided by its own volume.
 //!
-//! A component is *closed* when every edge of it has exactly two faces. Components are the
-//! connected parts over shared vertices, as in [`super::MeshInfo`]. [`orientation`] reports
-//! what [`orient_outward`] would do without doing it.
+//! [`orientation`] reports what [`orient_outward`] would do without doing it.
 
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
@@ -33,18 +35,19 @@ use rayon::prelude::*;
 use crate::error::Result;
 
 use super::topology::runs_through;
-use super::{TriMesh, Vec3};
+use super::{TriMesh, Vec3, VertexKind};
 
 /// What [`orientation`] found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Orientation {
     /// Connected components (over shared vertices).
     pub components: usize,
-    /// Closed components that have a consistent winding (once rewound).
+    /// Closed surfaces (patches, step 2 of the module docs) that have a consistent winding
+    /// (once rewound).
     pub closed: usize,
     /// Of those, the ones with negative signed volume (facing inward).
     pub inward: usize,
-    /// Triangles in the inward components.
+    /// Triangles in the inward surfaces.
     pub inward_faces: usize,
     /// Components (closed or open) in which some triangles are wound against their
     /// neighbours, as given.
@@ -60,61 +63,100 @@ pub struct Orientation {
 const VOLUME_BLOCK: usize = 1 << 14;
 
 /// Classifies the components of `mesh`; returns the report and, per face, whether
-/// [`orient_outward`] reverses it (to agree with its patch, or in an inward component).
+/// [`orient_outward`] reverses it (to agree with its patch, or in an inward surface).
 pub fn orientation(mesh: &TriMesh) -> (Orientation, Vec<bool>) {
-    let (report, components) = classify(mesh);
+    let (report, reversal) = classify(mesh);
     let faces = mesh.faces();
     let per_face = (0..faces.len())
         .into_par_iter()
-        .map(|f| components.reverses(f, &faces[f]))
+        .map(|f| reversal.reverses(f, &faces[f]))
         .collect();
     (report, per_face)
 }
 
-/// The component of every vertex and whether each faces inward, from which whether a face
-/// lies in an inward component is read off its first corner (no array per face), and the
-/// faces to rewind (empty when every patch is consistent).
-struct Components {
-    of_vertex: Vec<u32>,
+/// The groups of faces whose volume decides their side: connected components (over shared
+/// vertices, read off a face's first corner: no array per face) where every vertex is
+/// manifold and every patch consistent, else patches (faces joined by edges with two
+/// faces), so that two shells touching at a vertex, or a patch rewound, are decided alone.
+enum Grouping {
+    Components(Vec<u32>),
+    Patches(Vec<u32>),
+}
+
+impl Grouping {
+    fn of(&self, f: usize, triangle: &[u32; 3]) -> usize {
+        match self {
+            Grouping::Components(of_vertex) => of_vertex[triangle[0] as usize] as usize,
+            Grouping::Patches(of_face) => of_face[f] as usize,
+        }
+    }
+}
+
+/// What [`orient_outward`] reverses: the groups that face inward and the faces to rewind
+/// (empty when every patch is consistent).
+struct Reversal {
+    grouping: Grouping,
     inward: Vec<bool>,
     rewind: Vec<bool>,
 }
 
-impl Components {
-    fn is_inward(&self, triangle: &[u32; 3]) -> bool {
-        self.inward[self.of_vertex[triangle[0] as usize] as usize]
+impl Reversal {
+    fn is_inward(&self, f: usize, triangle: &[u32; 3]) -> bool {
+        self.inward[self.grouping.of(f, triangle)]
     }
 
     /// Whether face `f` with corners `triangle` is reversed: rewound or inward, not both.
     fn reverses(&self, f: usize, triangle: &[u32; 3]) -> bool {
-        self.is_inward(triangle) != self.rewind.get(f).copied().unwrap_or(false)
+        self.is_inward(f, triangle) != self.rewind.get(f).copied().unwrap_or(false)
     }
 }
 
-/// Per face, whether it is reversed to agree with its patch (step 1 of the module docs),
-/// with the number of such faces and of non-orientable patches.
-fn rewinding(mesh: &TriMesh) -> (Vec<bool>, usize, usize) {
+/// The patches of a mesh (step 1 of the module docs).
+struct Patches {
+    /// Per face, its patch.
+    of_face: Vec<u32>,
+    /// Per face, whether it is reversed to agree with its patch.
+    rewind: Vec<bool>,
+    /// Per patch: every edge of its faces has two faces (it bounds a volume, if orientable).
+    closed: Vec<bool>,
+    /// Per patch: it has a consistent winding.
+    orientable: Vec<bool>,
+    /// Faces to rewind.
+    rewound: usize,
+}
+
+/// Walks the patches of `mesh` (depth first from their first face): per face its patch and
+/// whether it disagrees with the winding most of its patch has.
+fn patches(mesh: &TriMesh) -> Patches {
     const UNSEEN: u8 = u8::MAX;
     let topo = mesh.topology();
     let faces = mesh.faces();
     // Per face its winding relative to the first face of its patch: 0 the same, 1 reversed.
     let mut relative = vec![UNSEEN; faces.len()];
-    let mut rewind = vec![false; faces.len()];
-    let (mut rewound, mut non_orientable) = (0, 0);
+    let mut result = Patches {
+        of_face: vec![0; faces.len()],
+        rewind: vec![false; faces.len()],
+        closed: Vec::new(),
+        orientable: Vec::new(),
+        rewound: 0,
+    };
     let (mut patch, mut stack) = (Vec::new(), Vec::new());
     for first in 0..faces.len() {
         if relative[first] != UNSEEN {
             continue;
         }
+        let id = result.closed.len() as u32;
         relative[first] = 0;
         stack.push(first as u32);
         patch.clear();
-        let mut orientable = true;
+        let (mut orientable, mut closed) = (true, true);
         while let Some(f) = stack.pop() {
             patch.push(f);
+            result.of_face[f as usize] = id;
             let here = relative[f as usize];
             for e in topo.face_edges(f) {
                 let &[a, b] = topo.edge_faces(e) else {
+                    closed = false;
                     continue;
                 };
                 let g = if a == f { b } else { a };
@@ -131,8 +173,9 @@ fn rewinding(mesh: &TriMesh) -> (Vec<bool>, usize, usize) {
                 }
             }
         }
+        result.closed.push(closed);
+        result.orientable.push(orientable);
         if !orientable {
-            non_orientable += 1;
             continue;
         }
         let reversed = patch.iter().filter(|&&f| relative[f as usize] == 1).count();
@@ -140,16 +183,16 @@ fn rewinding(mesh: &TriMesh) -> (Vec<bool>, usize, usize) {
         let reverse = if 2 * reversed <= patch.len() { 1 } else { 0 };
         for &f in &patch {
             if relative[f as usize] == reverse {
-                rewind[f as usize] = true;
-                rewound += 1;
+                result.rewind[f as usize] = true;
+                result.rewound += 1;
             }
         }
     }
-    (rewind, rewound, non_orientable)
+    result
 }
 
-/// The report of [`orientation`] and the components it found.
-fn classify(mesh: &TriMesh) -> (Orientation, Components) {
+/// The report of [`orientation`] and what [`orient_outward`] reverses.
+fn classify(mesh: &TriMesh) -> (Orientation, Reversal) {
     let topo = mesh.topology();
     let faces = mesh.faces();
     let (vertex_component, count) = topo.vertex_components(faces);
@@ -173,88 +216,86 @@ fn classify(mesh: &TriMesh) -> (Orientation, Components) {
         }
     });
     let open: Vec<bool> = open.into_iter().map(AtomicBool::into_inner).collect();
-    let inconsistent: Vec<bool> = inconsistent
-        .into_iter()
-        .map(AtomicBool::into_inner)
-        .collect();
     let mut report = Orientation {
         components: count,
-        inconsistent: inconsistent.iter().filter(|&&x| x).count(),
+        inconsistent: inconsistent.into_iter().filter(|x| x.load(Relaxed)).count(),
         ..Default::default()
     };
-    // Step 1 (module docs); the volumes below are those of the rewound triangles. A component
-    // that keeps a non-orientable patch has no inside.
-    let mut has_inside: Vec<bool> = open.iter().map(|&open| !open).collect();
-    let rewind = if report.inconsistent > 0 {
-        let (rewind, rewound, non_orientable) = rewinding(mesh);
-        report.rewound_faces = rewound;
-        report.non_orientable = non_orientable;
-        if non_orientable > 0 {
-            let rewound = mesh.clone().with_flipped_faces(&rewind);
-            let topo = rewound.topology();
-            for (v, &c) in vertex_component.iter().enumerate() {
-                if let Some(inside) = has_inside.get_mut(c as usize)
-                    && topo.has_inconsistent_edge(v as u32)
-                {
-                    *inside = false;
-                }
-            }
-        }
-        rewind
-    } else {
-        Vec::new()
-    };
+    // Step 1 (module docs), and the groups whose volume decides: components where that is
+    // the same (the usual mesh, without a walk over its faces), else patches. The volumes
+    // below are those of the rewound triangles.
+    let (grouping, has_inside, rewind) =
+        if report.inconsistent > 0 || topo.count_vertices(VertexKind::NonManifold) > 0 {
+            let patches = patches(mesh);
+            report.rewound_faces = patches.rewound;
+            report.non_orientable = patches.orientable.iter().filter(|&&o| !o).count();
+            let has_inside: Vec<bool> = (patches.closed.iter().zip(&patches.orientable))
+                .map(|(&closed, &orientable)| closed && orientable)
+                .collect();
+            let rewind = if patches.rewound > 0 {
+                patches.rewind
+            } else {
+                Vec::new()
+            };
+            (Grouping::Patches(patches.of_face), has_inside, rewind)
+        } else {
+            let has_inside: Vec<bool> = open.iter().map(|&open| !open).collect();
+            (
+                Grouping::Components(vertex_component),
+                has_inside,
+                Vec::new(),
+            )
+        };
+    let groups = has_inside.len();
     // Signed volumes about the bounding-box centre (for fewer cancellations): summed in
-    // parallel over fixed blocks of faces, run by run of faces in one component, then block
-    // by block in order, so the sums do not depend on the number of threads. The runs also
-    // count the faces of each component.
+    // parallel over fixed blocks of faces, run by run of faces in one group, then block by
+    // block in order, so the sums do not depend on the number of threads. The runs also
+    // count the faces of each group.
     let centre = mesh.bounding_box().center();
-    let runs: Vec<Vec<(u32, f64, usize)>> = faces
+    let runs: Vec<Vec<(usize, f64, usize)>> = faces
         .par_chunks(VOLUME_BLOCK)
         .enumerate()
         .map(|(block, triangles)| {
-            let mut runs: Vec<(u32, f64, usize)> = Vec::new();
+            let mut runs: Vec<(usize, f64, usize)> = Vec::new();
             for (i, t) in triangles.iter().enumerate() {
-                let c = vertex_component[t[0] as usize];
+                let f = block * VOLUME_BLOCK + i;
+                let g = grouping.of(f, t);
                 let mut v = tetrahedron_volume(mesh, centre, t);
-                if rewind.get(block * VOLUME_BLOCK + i) == Some(&true) {
+                if rewind.get(f) == Some(&true) {
                     v = -v;
                 }
                 match runs.last_mut() {
-                    Some((last, sum, faces)) if *last == c => {
+                    Some((last, sum, faces)) if *last == g => {
                         *sum += v;
                         *faces += 1;
                     }
-                    _ => runs.push((c, v, 1)),
+                    _ => runs.push((g, v, 1)),
                 }
             }
             runs
         })
         .collect();
-    let mut volume = vec![0.0f64; count];
-    let mut face_count = vec![0usize; count];
-    for (c, v, n) in runs.into_iter().flatten() {
-        volume[c as usize] += v;
-        face_count[c as usize] += n;
+    let mut volume = vec![0.0f64; groups];
+    let mut face_count = vec![0usize; groups];
+    for (g, v, n) in runs.into_iter().flatten() {
+        volume[g] += v;
+        face_count[g] += n;
     }
-    let mut flip = vec![false; count];
-    for c in 0..count {
-        if !has_inside[c] {
-            continue;
-        }
+    let mut inward = vec![false; groups];
+    for g in (0..groups).filter(|&g| has_inside[g]) {
         report.closed += 1;
-        if volume[c] < 0.0 {
+        if volume[g] < 0.0 {
             report.inward += 1;
-            report.inward_faces += face_count[c];
-            flip[c] = true;
+            report.inward_faces += face_count[g];
+            inward[g] = true;
         }
     }
-    let components = Components {
-        of_vertex: vertex_component,
-        inward: flip,
+    let reversal = Reversal {
+        grouping,
+        inward,
         rewind,
     };
-    (report, components)
+    (report, reversal)
 }
 
 /// Signed volume of the tetrahedron of `triangle` and `centre` (positive when the triangle
@@ -288,12 +329,12 @@ fn tetrahedron_volume(mesh: &TriMesh, centre: Vec3, triangle: &[u32; 3]) -> f64 
 /// None at present (reversing triangles keeps the connectivity as it is); the `Result` leaves
 /// room for meshes that cannot be oriented.
 pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
-    let (report, components) = classify(&mesh);
+    let (report, reversal) = classify(&mesh);
     if report.rewound_faces > 0 {
         let faces = mesh.faces();
         let reverse: Vec<bool> = (0..faces.len())
             .into_par_iter()
-            .map(|f| components.reverses(f, &faces[f]))
+            .map(|f| reversal.reverses(f, &faces[f]))
             .collect();
         return Ok((mesh.with_flipped_faces(&reverse), report));
     }
@@ -301,7 +342,7 @@ pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
         return Ok((mesh, report));
     }
     Ok((
-        mesh.with_components_flipped_where(|_, t| components.is_inward(t)),
+        mesh.with_components_flipped_where(|f, t| reversal.is_inward(f, t)),
         report,
     ))
 }
@@ -544,5 +585,69 @@ mod tests {
         assert!(reversed.iter().all(|&r| !r));
         let (same, _) = orient_outward(strip.clone()).unwrap();
         assert_eq!(same.faces(), strip.faces());
+    }
+
+    /// Two octahedra touching at one vertex, (1, 0, 0) of the first, of radius 1, and
+    /// (−2, 0, 0) of the second, of radius 2 (its centre at (3, 0, 0)): one component, two
+    /// closed surfaces. The first's faces `f` where `reverse_first(f)` and all of the
+    /// second's are wound the other way.
+    fn touching_octahedra(reverse_first: impl Fn(usize) -> bool) -> TriMesh {
+        let small = shapes::octahedron();
+        let mut positions = small.positions().to_vec();
+        let mut faces: Vec<[u32; 3]> = (small.faces().iter().enumerate())
+            .map(|(f, &[a, b, c])| {
+                if reverse_first(f) {
+                    [a, c, b]
+                } else {
+                    [a, b, c]
+                }
+            })
+            .collect();
+        // The big one's vertex 1, (−1, 0, 0) scaled by 2 about (3, 0, 0), is the small
+        // one's vertex 0.
+        let map = |v: u32| if v == 1 { 0 } else { 6 + v };
+        positions.extend(
+            small
+                .positions()
+                .iter()
+                .map(|p| p * 2.0 + Vec3::new(3.0, 0.0, 0.0)),
+        );
+        faces.extend(
+            small
+                .faces()
+                .iter()
+                .map(|&[a, b, c]| [map(a), map(c), map(b)]),
+        );
+        TriMesh::new(positions, faces).unwrap()
+    }
+
+    #[test]
+    fn shells_touching_at_a_vertex_are_turned_each_by_its_own_volume() {
+        let outward = |mesh: &TriMesh| {
+            mesh.faces().iter().all(|&[a, b, c]| {
+                let [a, b, c] = [a, b, c].map(|v| mesh.position(v));
+                let centre = if a.x + b.x + c.x > 3.0 {
+                    Vec3::new(3.0, 0.0, 0.0)
+                } else {
+                    Vec3::zeros()
+                };
+                (b - a).cross(&(c - a)).dot(&(a + b + c - 3.0 * centre)) > 0.0
+            })
+        };
+        for reversed in [0, 1] {
+            let mesh = touching_octahedra(|f| f < reversed);
+            let (report, _) = orientation(&mesh);
+            assert_eq!(
+                (
+                    report.components,
+                    report.closed,
+                    report.inward,
+                    report.rewound_faces
+                ),
+                (1, 2, 1, reversed)
+            );
+            let (fixed, _) = orient_outward(mesh).unwrap();
+            assert!(outward(&fixed), "{reversed} reversed: {:?}", fixed.faces());
+        }
     }
 }

@@ -22,7 +22,8 @@
 //! their conjugacy and use up the iterations at a residual just above the tolerance. A step
 //! that fails in mixed precision is taken again from its start values by plain Jacobi CG in
 //! double precision on the same rows ([`ConnectionSystem::double_precision_step`]), which
-//! converges there; an error is returned only when that fails too.
+//! converges there, and so is every later step of the same system (each attempt would use
+//! up the iterations first); an error is returned only when that fails too.
 //!
 //! Chunks of fixed size are summed in order, so results do not depend on the thread count,
 //! and flipping a field's sign at a vertex with the σ of its edges flips the iterates there
@@ -51,7 +52,8 @@ pub struct ConjugateGradientOptions {
     /// traced lines are the same as with an exact solve, their total length within 1e-5
     /// relative; at 1e-4 lengths move by up to 1e-4, at 1e-3 a line can appear or vanish.
     pub tolerance: f64,
-    /// Give up with [`Error::Solver`] after this many iterations in one step.
+    /// Give up with [`Error::Solver`] after this many iterations in one step (in mixed
+    /// precision, then again per field in the double-precision fallback; module docs).
     ///
     /// Default: 1000 (the shared meshes need 20 to 45 per step).
     pub max_iterations: usize,
@@ -118,6 +120,9 @@ pub struct ConnectionSystem<'m> {
     time: f64,
     fields: usize,
     options: ConjugateGradientOptions,
+    /// Set when a step failed in mixed precision: every later step of this system is taken
+    /// in double precision ([`ConnectionSystem::double_precision_step`]).
+    single_precision_failed: std::sync::OnceLock<()>,
 }
 
 /// The two precisions the solvers compute in.
@@ -230,6 +235,7 @@ impl<'m> ConnectionSystem<'m> {
             time,
             fields,
             options,
+            single_precision_failed: std::sync::OnceLock::new(),
         };
         system.fill(&weights, &mass, time);
         Ok(system)
@@ -243,6 +249,8 @@ impl<'m> ConnectionSystem<'m> {
     pub fn update(&mut self, weights: Vec<f64>, mass: Vec<f64>, time: f64) -> Result<()> {
         let weights = single_precision(self.topology, weights, &mass, time)?;
         self.fill(&weights, &mass, time);
+        // A new system: single precision may do again.
+        self.single_precision_failed = std::sync::OnceLock::new();
         Ok(())
     }
 
@@ -460,23 +468,30 @@ impl<'m> ConnectionSystem<'m> {
             p: vec![[0.0; K]; n],
             q: vec![[0.0; K]; n],
             e: vec![[0.0; K]; n],
+            rhs: Vec::new(),
         };
         let mut iterations = 0;
-        // The start values of the step, to take it again in double precision.
-        let mut start: Vec<Vec<f64>> = Vec::new();
         for _ in 0..steps {
-            start.resize_with(x.len(), Vec::new);
-            for (copy, field) in start.iter_mut().zip(x.iter()) {
-                copy.clear();
-                copy.extend_from_slice(field);
+            if self.single_precision_failed.get().is_some() {
+                iterations += self.double_precision_step(x, None, tolerance)?;
+                continue;
             }
+            work.rhs.clear();
             match self.jacobi_step(x, &mut work, tolerance) {
                 Ok(taken) => iterations += taken,
-                Err(_) => {
-                    for (field, copy) in x.iter_mut().zip(&start) {
-                        field.copy_from_slice(copy);
-                    }
-                    iterations += self.double_precision_step(x, tolerance)?;
+                Err(single) => {
+                    // Later steps and solves go straight to double precision: this system is
+                    // beyond single precision, and each attempt would use up the iterations.
+                    let _ = self.single_precision_failed.set(());
+                    // `x` holds the start values x₀ (no round ended) or the best iterate,
+                    // with b = M x₀ stored.
+                    let rhs = std::mem::take(&mut work.rhs);
+                    let b = |f: usize, v: usize| rhs[v][f];
+                    let b: Option<&(dyn Fn(usize, usize) -> f64 + Sync)> =
+                        if rhs.is_empty() { None } else { Some(&b) };
+                    iterations += self.double_precision_step(x, b, tolerance).map_err(|e| {
+                        Error::Solver(format!("{e} (after single precision failed: {single})"))
+                    })?;
                 }
             }
         }
@@ -484,11 +499,19 @@ impl<'m> ConnectionSystem<'m> {
     }
 
     /// One step by plain Jacobi-preconditioned CG in double precision on the same rows, field
-    /// by field, from the step's start values in `x` (or from zero when that is closer, as
-    /// [`ConnectionSystem::jacobi_step`] starts): the fallback of a step that mixed precision
-    /// cannot finish (see the module docs). The stopping test is the same. Returns the
-    /// iterations of the slowest field.
-    fn double_precision_step(&self, x: &mut [&mut [f64]], tolerance: f64) -> Result<usize> {
+    /// by field, solving `A x = b` with `b(f, v)` given, or `b = M x` for the start values in
+    /// `x` (`None`): the fallback of a step that mixed precision cannot finish (see the module
+    /// docs). It starts from `x`, or from zero when that is closer, as
+    /// [`ConnectionSystem::jacobi_step`] does, and stops on the same test, checked on the
+    /// residual recomputed from the iterate (CG's updated residual drifts from it on the
+    /// ill-conditioned systems this runs on; it restarts from the recomputed one). Returns
+    /// the iterations of the slowest field.
+    fn double_precision_step(
+        &self,
+        x: &mut [&mut [f64]],
+        rhs: Option<&(dyn Fn(usize, usize) -> f64 + Sync)>,
+        tolerance: f64,
+    ) -> Result<usize> {
         let n = self.diagonal.len();
         let chunked_sum = |terms: &(dyn Fn(usize) -> f64 + Sync)| -> f64 {
             let partials: Vec<f64> = (0..n.div_ceil(CHUNK))
@@ -503,25 +526,38 @@ impl<'m> ConnectionSystem<'m> {
             let sign = |bits: u32| if (bits >> f) & 1 == 1 { -1.0 } else { 1.0 };
             // out = A p, A = D − t W_σ.
             let multiply = |p: &[f64], out: &mut [f64]| {
-                out.par_iter_mut().enumerate().for_each(|(v, out)| {
-                    let sum: f64 = self.row(v).map(|(q, w, bits)| sign(bits) * w * p[q]).sum();
-                    *out = self.diagonal[v] * p[v] - self.time * sum;
-                });
+                out.par_iter_mut()
+                    .with_min_len(CHUNK)
+                    .enumerate()
+                    .for_each(|(v, out)| {
+                        let sum: f64 = self.row(v).map(|(q, w, bits)| sign(bits) * w * p[q]).sum();
+                        *out = self.diagonal[v] * p[v] - self.time * sum;
+                    });
             };
-            let b: Vec<f64> = (0..n)
-                .into_par_iter()
-                .map(|v| self.mass(v) * u[v])
-                .collect();
+            let b: Vec<f64> = match rhs {
+                Some(rhs) => (0..n)
+                    .into_par_iter()
+                    .with_min_len(CHUNK)
+                    .map(|v| rhs(f, v))
+                    .collect(),
+                None => (0..n)
+                    .into_par_iter()
+                    .with_min_len(CHUNK)
+                    .map(|v| self.mass(v) * u[v])
+                    .collect(),
+            };
             let rhs_norm2 = chunked_sum(&|v| b[v] * b[v] / self.diagonal[v]);
-            if !rhs_norm2.is_finite() {
-                return Err(not_finite());
-            }
-            multiply(u, &mut q);
-            r.par_iter_mut()
-                .enumerate()
-                .for_each(|(v, r)| *r = b[v] - q[v]);
-            let mut rz = chunked_sum(&|v| r[v] * r[v] / self.diagonal[v]);
-            if !rz.is_finite() {
+            // r = b − A u; returns r·D⁻¹r.
+            let residual = |u: &[f64], r: &mut [f64], q: &mut [f64]| -> f64 {
+                multiply(u, q);
+                r.par_iter_mut()
+                    .with_min_len(CHUNK)
+                    .enumerate()
+                    .for_each(|(v, r)| *r = b[v] - q[v]);
+                chunked_sum(&|v| r[v] * r[v] / self.diagonal[v])
+            };
+            let mut rz = residual(u, &mut r, &mut q);
+            if !(rhs_norm2.is_finite() && rz.is_finite()) {
                 return Err(not_finite());
             }
             if rz > rhs_norm2 {
@@ -530,30 +566,41 @@ impl<'m> ConnectionSystem<'m> {
                 rz = rhs_norm2;
             }
             let threshold = tolerance * tolerance * rhs_norm2;
-            p.par_iter_mut()
-                .enumerate()
-                .for_each(|(v, p)| *p = r[v] / self.diagonal[v]);
             let mut iterations = 0;
             while rz > threshold {
-                if iterations == self.options.max_iterations {
-                    return Err(self.not_converged(iterations, (rz / rhs_norm2).sqrt(), tolerance));
-                }
-                iterations += 1;
-                multiply(&p, &mut q);
-                let alpha = Self::step_length(rz, chunked_sum(&|v| p[v] * q[v]), iterations)?;
-                u.par_iter_mut()
-                    .zip(r.par_iter_mut())
-                    .enumerate()
-                    .for_each(|(v, (u, r))| {
-                        *u += alpha * p[v];
-                        *r -= alpha * q[v];
-                    });
-                let next = chunked_sum(&|v| r[v] * r[v] / self.diagonal[v]);
-                let beta = next / rz;
-                rz = next;
+                // A (re)start from the residual in `r`.
                 p.par_iter_mut()
+                    .with_min_len(CHUNK)
                     .enumerate()
-                    .for_each(|(v, p)| *p = r[v] / self.diagonal[v] + beta * *p);
+                    .for_each(|(v, p)| *p = r[v] / self.diagonal[v]);
+                while rz > threshold {
+                    if iterations == self.options.max_iterations {
+                        let relative = (rz / rhs_norm2).sqrt();
+                        return Err(self.not_converged(iterations, relative, tolerance));
+                    }
+                    iterations += 1;
+                    multiply(&p, &mut q);
+                    let alpha = Self::step_length(rz, chunked_sum(&|v| p[v] * q[v]), iterations)?;
+                    u.par_iter_mut()
+                        .zip(r.par_iter_mut())
+                        .with_min_len(CHUNK)
+                        .enumerate()
+                        .for_each(|(v, (u, r))| {
+                            *u += alpha * p[v];
+                            *r -= alpha * q[v];
+                        });
+                    let next = chunked_sum(&|v| r[v] * r[v] / self.diagonal[v]);
+                    let beta = next / rz;
+                    rz = next;
+                    p.par_iter_mut()
+                        .with_min_len(CHUNK)
+                        .enumerate()
+                        .for_each(|(v, p)| *p = r[v] / self.diagonal[v] + beta * *p);
+                }
+                rz = residual(u, &mut r, &mut q);
+                if !rz.is_finite() {
+                    return Err(not_finite());
+                }
             }
             slowest = slowest.max(iterations);
         }
@@ -590,7 +637,6 @@ impl<'m> ConnectionSystem<'m> {
         let threshold: [f64; K] = std::array::from_fn(|f| tolerance.powi(2) * rhs_norm2[f]);
         let mut done: [bool; K] = std::array::from_fn(|f| rz[f] <= threshold[f]);
         let mut iterations = 0;
-        let mut rhs: Vec<[f64; K]> = Vec::new();
         let mut first = true;
         while !done.iter().all(|&d| d) {
             // Each round aims a little below the tolerance (so that one round usually
@@ -605,10 +651,13 @@ impl<'m> ConnectionSystem<'m> {
                 first = false;
                 let converged =
                     |next: &[f64; K]| (0..K).all(|f| done[f] || next[f] <= threshold[f]);
-                self.end_first_round(x, work, &cold, converged, &mut rhs)
+                let mut rhs = std::mem::take(&mut work.rhs);
+                let next = self.end_first_round(x, work, &cold, converged, &mut rhs);
+                work.rhs = rhs;
+                next
             } else {
                 add_correction(x, &work.e);
-                let (x, rhs) = (&*x, &rhs);
+                let (x, rhs) = (&*x, &work.rhs);
                 let iterate = |j: usize| -> [f64; K] { std::array::from_fn(|f| x[f][j]) };
                 self.residual::<K>(iterate, |v, _| rhs[v], &mut work.r)[1]
             };

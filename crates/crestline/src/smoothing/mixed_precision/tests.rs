@@ -255,7 +255,7 @@ fn the_double_precision_fallback_solves_the_same_system() {
     let u0: Vec<f64> = mesh.positions().iter().map(|p| p.x * p.y + p.z).collect();
     let (mut a, mut b) = (u0.clone(), u0.clone());
     let iterations = sys
-        .double_precision_step(&mut [&mut a, &mut b], 1e-10)
+        .double_precision_step(&mut [&mut a, &mut b], None, 1e-10)
         .unwrap();
     assert!(iterations > 0);
     let check = |u: &[f64], flips: Option<&[bool]>| {

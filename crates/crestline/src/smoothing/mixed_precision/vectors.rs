@@ -14,6 +14,9 @@ pub(super) struct Work<const K: usize> {
     pub(super) p: Vec<[f32; K]>,
     pub(super) q: Vec<[f32; K]>,
     pub(super) e: Vec<[f32; K]>,
+    /// The step's right-hand side `b = M x₀`, stored once a second round needs it (empty
+    /// before: `x` still holds `x₀`).
+    pub(super) rhs: Vec<[f64; K]>,
 }
 
 impl<const K: usize> Work<K> {
@@ -43,7 +46,7 @@ impl<const K: usize> Work<K> {
 
     /// `e += α p`, `r −= α q`; returns the new `r·D⁻¹r` per field.
     pub(super) fn advance(&mut self, alpha: &[f32; K]) -> [f64; K] {
-        let Work { d, r, p, q, e } = self;
+        let Work { d, r, p, q, e, .. } = self;
         let sums = r
             .par_chunks_mut(CHUNK)
             .zip(e.par_chunks_mut(CHUNK))
