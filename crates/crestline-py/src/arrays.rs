@@ -1,10 +1,18 @@
-//! numpy arrays in and out.
+//! numpy arrays in and out, and the other arguments made of numbers: counts, short sequences.
 //!
 //! Inputs are read where they lie: a float64 or float32 array of vertices, or an int64,
 //! int32, uint32 or uint64 array of faces, C-ordered or not (a slice, a transpose, a
 //! `trimesh.Trimesh`'s tracked arrays), is copied once, straight into the mesh's own storage.
 //! Anything else array-like (lists, other dtypes) goes through `numpy.asarray` first.
 //! Outputs are numpy arrays that take over the library's buffers where the layout allows.
+//!
+//! Wrong types raise `TypeError`, wrong values `ValueError` (see [`crate::error`]): no array
+//! at all (a string, `None`, a number where rows are needed) or values of the wrong kind
+//! (floats, booleans, strings or dates where vertex indices are needed; strings or complex
+//! numbers where coordinates are) is a `TypeError`; a wrong shape, a ragged list, a
+//! non-finite coordinate or an index out of range is a `ValueError`. An empty array is no
+//! rows, whatever its dtype (numpy makes `[]` float64). Counts ([`count`]) and short
+//! sequences of numbers ([`numbers`], [`counts`], [`rows_of_numbers`]) follow the same rule.
 
 use crestline::Vec3;
 use numpy::ndarray::ArrayView2;
@@ -12,15 +20,17 @@ use numpy::{
     Element, PyArray1, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray,
     PyUntypedArrayMethods,
 };
+use pyo3::exceptions::{PyOverflowError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyString};
 
-use crate::error::invalid;
+use crate::error::{invalid, type_name, wrong_type};
 
 /// The positions of an `(n, 3)` array-like of coordinates named `what` in messages.
 ///
 /// # Errors
-/// `ValueError` for another shape or values that are not numbers. Finiteness is checked by
-/// the mesh.
+/// `TypeError` for no array or values that are not real numbers, `ValueError` for another
+/// shape. Finiteness is checked by the mesh.
 pub fn positions(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec3>> {
     if let Ok(array) = obj.cast::<PyArray2<f64>>() {
         return rows(array, what, |x| x);
@@ -28,7 +38,7 @@ pub fn positions(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec3>> {
     if let Ok(array) = obj.cast::<PyArray2<f32>>() {
         return rows(array, what, f64::from);
     }
-    let array = as_numpy(obj, Some("float64"), what)?;
+    let array = as_numpy(obj, Values::Real, what)?;
     if is_empty_list(&array) {
         return Ok(Vec::new());
     }
@@ -40,7 +50,8 @@ pub fn positions(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec3>> {
 /// Indices must be integers in `[0, 2^32)`; the mesh checks that they name vertices.
 ///
 /// # Errors
-/// `ValueError` for another shape, a dtype that is not integer, or an index out of range.
+/// `TypeError` for no array or a dtype that is not integer, `ValueError` for another shape
+/// or an index out of range.
 pub fn triangles(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[u32; 3]>> {
     if let Ok(array) = obj.cast::<PyArray2<i64>>() {
         return index_rows(array, what);
@@ -54,28 +65,21 @@ pub fn triangles(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[u32; 3]>> 
     if let Ok(array) = obj.cast::<PyArray2<u64>>() {
         return index_rows(array, what);
     }
-    let array = as_numpy(obj, None, what)?;
+    let array = as_numpy(obj, Values::Index, what)?;
     if is_empty_list(&array) {
         return Ok(Vec::new());
     }
-    let kind = array.dtype().kind();
-    if !(kind == b'i' || kind == b'u') {
-        return Err(invalid(format!(
-            "{what} must hold integer vertex indices, got dtype {}",
-            array.dtype()
-        )));
-    }
     check_rows_of_three(&array, what)?;
-    let array = array.call_method1("astype", ("int64",))?;
     index_rows(array.cast::<PyArray2<i64>>()?, what)
 }
 
 /// One value per vertex (`n` of them) from a 1-d array-like named `what` in messages.
 ///
 /// # Errors
-/// `ValueError` for another shape or length.
+/// `TypeError` for no array or values that are not real numbers, `ValueError` for another
+/// shape or length.
 pub fn per_vertex(obj: &Bound<'_, PyAny>, n: usize, what: &str) -> PyResult<Vec<f64>> {
-    let array = as_numpy(obj, Some("float64"), what)?;
+    let array = as_numpy(obj, Values::Real, what)?;
     if array.shape() != [n] {
         return Err(invalid(format!(
             "{what} must have shape ({n},), one value per vertex, got {}",
@@ -122,20 +126,104 @@ pub fn triangles_array<'py>(
     PyArray1::from_vec(py, flat).reshape([triangles.len(), 3])
 }
 
-/// `numpy.asarray(obj, dtype)`, with a `ValueError` naming `what` when numpy refuses.
+/// What the values of an array must be.
+#[derive(Clone, Copy)]
+enum Values {
+    /// Coordinates and values per vertex: real numbers (integers and booleans too), read as
+    /// float64.
+    Real,
+    /// Vertex indices: integers of any width and sign, read as int64 (a uint64 beyond turns
+    /// negative and is refused with the other indices out of range).
+    Index,
+}
+
+impl Values {
+    /// The dtype the values are read as.
+    fn dtype(self) -> &'static str {
+        match self {
+            Values::Real => "float64",
+            Values::Index => "int64",
+        }
+    }
+
+    /// Whether numpy's dtype kind (`f`, `i`, `u`, `b`, `c`, `U`, `O`, ...) holds such values.
+    fn accepts(self, kind: u8) -> bool {
+        match self {
+            Values::Real => matches!(kind, b'f' | b'i' | b'u' | b'b'),
+            Values::Index => matches!(kind, b'i' | b'u'),
+        }
+    }
+
+    /// What the values must be, for messages.
+    fn meaning(self) -> &'static str {
+        match self {
+            Values::Real => "real numbers",
+            Values::Index => "integer vertex indices",
+        }
+    }
+}
+
+/// `obj` as a numpy array of the dtype `values` are read as, named `what` in messages.
+///
+/// An object array (numbers as Python objects) is read by its elements; an empty array is
+/// no values whatever its dtype.
+///
+/// # Errors
+/// `TypeError` for no array (a 0-d one: a string, `None`, a number) or values that are not
+/// `values`, `ValueError` for a ragged list.
 fn as_numpy<'py>(
     obj: &Bound<'py, PyAny>,
-    dtype: Option<&str>,
+    values: Values,
     what: &str,
 ) -> PyResult<Bound<'py, PyUntypedArray>> {
     let numpy = obj.py().import("numpy")?;
-    let array = numpy
-        .call_method1("asarray", (obj, dtype))
-        .map_err(|e| invalid(format!("{what} is not an array of numbers: {e}")))?;
+    let mut array = asarray(&numpy, obj, what)?;
+    if array.ndim() == 0 {
+        return Err(wrong_type(format!(
+            "{what} must be an array-like, got {}",
+            type_name(obj)
+        )));
+    }
+    if array.dtype().kind() == b'O' {
+        array = asarray(&numpy, &array.call_method0("tolist")?, what)?;
+    }
+    if array.is_empty() {
+        let empty = numpy.call_method1("zeros", (array.shape().to_vec(), values.dtype()))?;
+        return Ok(empty.cast_into::<PyUntypedArray>()?);
+    }
+    if !values.accepts(array.dtype().kind()) {
+        return Err(wrong_type(format!(
+            "{what} must hold {}, got dtype {}",
+            values.meaning(),
+            array.dtype()
+        )));
+    }
+    let array = numpy.call_method1("asarray", (array, values.dtype()))?;
     Ok(array.cast_into::<PyUntypedArray>()?)
 }
 
-/// An empty list or tuple becomes an array of shape (0,) (and dtype float64): no rows.
+/// `numpy.asarray(obj)`; numpy's refusal named after `what`, its type kept (`ValueError`
+/// for a ragged list, `TypeError` for an object it cannot make an array of).
+fn asarray<'py>(
+    numpy: &Bound<'py, PyModule>,
+    obj: &Bound<'py, PyAny>,
+    what: &str,
+) -> PyResult<Bound<'py, PyUntypedArray>> {
+    let py = obj.py();
+    let array = numpy.call_method1("asarray", (obj,)).map_err(|e| {
+        let message = format!("{what} is not an array of numbers: {e}");
+        if e.is_instance_of::<PyTypeError>(py) {
+            wrong_type(message)
+        } else if e.is_instance_of::<PyValueError>(py) {
+            invalid(message)
+        } else {
+            e
+        }
+    })?;
+    Ok(array.cast_into::<PyUntypedArray>()?)
+}
+
+/// An empty list or tuple becomes an array of shape (0,): no rows.
 fn is_empty_list(array: &Bound<'_, PyUntypedArray>) -> bool {
     array.shape() == [0]
 }
@@ -213,4 +301,149 @@ where
         };
         Ok([index(0)?, index(1)?, index(2)?])
     })
+}
+
+/// Unsigned integer types a count can be read as.
+pub trait Unsigned: TryFrom<i128> + Copy + Default {
+    /// The largest value, for messages.
+    const LARGEST: u128;
+}
+
+impl Unsigned for usize {
+    const LARGEST: u128 = usize::MAX as u128;
+}
+
+impl Unsigned for u32 {
+    const LARGEST: u128 = u32::MAX as u128;
+}
+
+/// A count or size named `what` in messages: a non-negative integer (a Python int, a numpy
+/// integer, anything with `__index__`) that fits `T`.
+///
+/// # Errors
+/// `TypeError` for anything but an integer (a float too), `ValueError` for a negative
+/// integer or one beyond `T`.
+pub fn count<T: Unsigned>(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<T> {
+    let py = obj.py();
+    let too_large = || {
+        invalid(format!(
+            "{what} must be an integer from 0 to {}, got {obj}",
+            T::LARGEST
+        ))
+    };
+    let value: i128 = match obj.extract() {
+        Ok(value) => value,
+        Err(e) if e.is_instance_of::<PyOverflowError>(py) => return Err(too_large()),
+        Err(e) if e.is_instance_of::<PyTypeError>(py) => {
+            return Err(wrong_type(format!(
+                "{what} must be a non-negative integer, got {}",
+                type_name(obj)
+            )));
+        }
+        Err(e) => return Err(e),
+    };
+    if value < 0 {
+        return Err(invalid(format!(
+            "{what} must be a non-negative integer, got {value}"
+        )));
+    }
+    T::try_from(value).map_err(|_| too_large())
+}
+
+/// `N` numbers from a sequence (tuple, list, numpy array, any iterable but a string) named
+/// `what` in messages; `names` says what they are, as `"(azimuth, elevation)"`.
+///
+/// # Errors
+/// `TypeError` for no sequence or an item that is not a number, `ValueError` for another
+/// length.
+pub fn numbers<const N: usize>(
+    obj: &Bound<'_, PyAny>,
+    what: &str,
+    names: &str,
+) -> PyResult<[f64; N]> {
+    let py = obj.py();
+    let mut values = [0.0; N];
+    for (i, (value, item)) in values
+        .iter_mut()
+        .zip(items(obj, N, what, names)?)
+        .enumerate()
+    {
+        *value = item.extract::<f64>().map_err(|e| {
+            if e.is_instance_of::<PyTypeError>(py) {
+                wrong_type(format!(
+                    "{what}[{i}] must be a number, got {}",
+                    type_name(&item)
+                ))
+            } else {
+                invalid(format!("{what}[{i}]: {e}"))
+            }
+        })?;
+    }
+    Ok(values)
+}
+
+/// `N` counts (see [`count`]) from a sequence as for [`numbers`].
+///
+/// # Errors
+/// As [`numbers`] and [`count`], naming the item (`size[0]`).
+pub fn counts<T: Unsigned, const N: usize>(
+    obj: &Bound<'_, PyAny>,
+    what: &str,
+    names: &str,
+) -> PyResult<[T; N]> {
+    let mut values = [T::default(); N];
+    for (i, (value, item)) in values
+        .iter_mut()
+        .zip(items(obj, N, what, names)?)
+        .enumerate()
+    {
+        *value = count(&item, &format!("{what}[{i}]"))?;
+    }
+    Ok(values)
+}
+
+/// Rows of `N` numbers (see [`numbers`]) from a sequence of sequences (a list of tuples, a
+/// `(k, N)` numpy array) named `what` in messages.
+///
+/// # Errors
+/// As [`numbers`], naming the row (`mask_spheres[1]`).
+pub fn rows_of_numbers<const N: usize>(
+    obj: &Bound<'_, PyAny>,
+    what: &str,
+    names: &str,
+) -> PyResult<Vec<[f64; N]>> {
+    let rows = iterate(obj, &format!("{what} must be a sequence of {names} rows"))?;
+    rows.iter()
+        .enumerate()
+        .map(|(i, row)| numbers(row, &format!("{what}[{i}]"), names))
+        .collect()
+}
+
+/// The `n` items of a sequence named `what`, holding `names`.
+fn items<'py>(
+    obj: &Bound<'py, PyAny>,
+    n: usize,
+    what: &str,
+    names: &str,
+) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    let items = iterate(
+        obj,
+        &format!("{what} must be a sequence of {n} numbers {names}"),
+    )?;
+    if items.len() != n {
+        return Err(invalid(format!(
+            "{what} must have {n} values {names}, got {}",
+            items.len()
+        )));
+    }
+    Ok(items)
+}
+
+/// The items of any iterable but a string or bytes; otherwise a `TypeError` saying `expected`.
+fn iterate<'py>(obj: &Bound<'py, PyAny>, expected: &str) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    let refused = || wrong_type(format!("{expected}, got {}", type_name(obj)));
+    if obj.is_instance_of::<PyString>() || obj.is_instance_of::<PyBytes>() {
+        return Err(refused());
+    }
+    obj.try_iter().map_err(|_| refused())?.collect()
 }

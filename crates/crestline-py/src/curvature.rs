@@ -6,7 +6,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::vectors_array;
+use crate::arrays::{count, vectors_array};
 use crate::error::{choose, to_py_err};
 use crate::extract::ESTIMATORS;
 use crate::mesh::{mesh_from_arrays, per_given_vertex};
@@ -25,7 +25,8 @@ use crate::mesh::{mesh_from_arrays, per_given_vertex};
 ///
 /// Returns a dict of numpy arrays indexed like the vertices: "k_max", "k_min", "e_max",
 /// "e_min" (n,) and "dir_max", "dir_min", "normals" (n, 3). Signs: a sphere of radius r
-/// has k = 1/r with outward normals; `k_max >= k_min`.
+/// has k = 1/r with outward normals; `k_max >= k_min`. Raises `TypeError` and `ValueError`
+/// as `extract` does (a negative `rings` or `degree` is a `ValueError`).
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, estimator = None, *, rings = None, radius = None, degree = None,
@@ -36,13 +37,15 @@ pub fn curvature<'py>(
     vertices: &Bound<'py, PyAny>,
     faces: &Bound<'py, PyAny>,
     estimator: Option<&str>,
-    rings: Option<usize>,
+    rings: Option<&Bound<'py, PyAny>>,
     radius: Option<f64>,
-    degree: Option<usize>,
+    degree: Option<&Bound<'py, PyAny>>,
     no_noise_adaptation: bool,
     keep_orientation: bool,
     no_weld: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let rings = rings.map(|k| count(k, "rings")).transpose()?;
+    let degree = degree.map(|d| count(d, "degree")).transpose()?;
     let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
     let estimator = match (estimator, rings) {
         (Some(name), _) => choose("estimator", name, &ESTIMATORS)?,

@@ -3,11 +3,17 @@
 //! Bad data or arguments (`InvalidInput`, a malformed file, a mesh the algorithm cannot work
 //! on) raise `ValueError`; a file the system cannot read raises `OSError` (or its subclass
 //! for the cause, such as `FileNotFoundError`); a numerical failure raises `RuntimeError`.
+//!
+//! The bindings' own checks follow Python's rule: an argument of the wrong type (a string
+//! where an array is needed, floats where vertex indices are, a float where a count is)
+//! raises `TypeError` ([`wrong_type`]); one of the right type with a wrong value (a wrong
+//! shape, a negative count, an unknown name) raises `ValueError` ([`invalid`]).
 
 use crestline::Error;
 use pyo3::exceptions::{
-    PyFileNotFoundError, PyOSError, PyPermissionError, PyRuntimeError, PyValueError,
+    PyFileNotFoundError, PyOSError, PyPermissionError, PyRuntimeError, PyTypeError, PyValueError,
 };
+use pyo3::prelude::*;
 use pyo3::{PyErr, PyResult};
 
 /// The Python exception for a library error, with the library's message.
@@ -29,6 +35,18 @@ pub fn to_py_err(error: Error) -> PyErr {
 /// A `ValueError` with `message`, for arguments the bindings check themselves.
 pub fn invalid(message: impl Into<String>) -> PyErr {
     PyValueError::new_err(message.into())
+}
+
+/// A `TypeError` with `message`, for arguments of a type the bindings cannot use.
+pub fn wrong_type(message: impl Into<String>) -> PyErr {
+    PyTypeError::new_err(message.into())
+}
+
+/// The name of `obj`'s type, for messages (`"str"`, `"numpy.ndarray"`).
+pub fn type_name(obj: &Bound<'_, PyAny>) -> String {
+    obj.get_type()
+        .fully_qualified_name()
+        .map_or_else(|_| "?".to_owned(), |name| name.to_string())
 }
 
 /// The value the name `given` stands for among `choices` (case-insensitive, `_` for `-`);

@@ -1,7 +1,13 @@
 //! `crestline.extract`: the command-line tool's `extract`, on arrays.
+//!
+//! The extraction runs without the GIL and checks for signals when each stage starts and
+//! ends ([`extract_interruptibly`]): Ctrl-C raises `KeyboardInterrupt` at the next stage
+//! boundary instead of after the whole run.
+
+use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
 
 use crestline::curvature::Estimator;
-use crestline::extract::{ExtractOptions, Method, Pipeline, extract as run_extract};
+use crestline::extract::{ExtractOptions, Extraction, Method, Pipeline, extract_with_progress};
 use crestline::mesh::Weld;
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 use crestline::smoothing::surface::SurfaceSmoothing;
@@ -9,8 +15,8 @@ use crestline::threshold::Threshold;
 use crestline::{TriMesh, Vec3};
 use pyo3::prelude::*;
 
-use crate::arrays::per_vertex;
-use crate::error::{choose, invalid, to_py_err};
+use crate::arrays::{count, per_vertex, rows_of_numbers};
+use crate::error::{choose, invalid, to_py_err, type_name, wrong_type};
 use crate::lines::Lines;
 use crate::mesh::mesh_from_arrays;
 
@@ -41,11 +47,12 @@ use crate::mesh::mesh_from_arrays;
 /// - `rings`: rings of YBS's cubic fit (1 to 8); selects the cubic fit unless `estimator`
 ///   says otherwise.
 /// - `mask`: one diffusion factor per vertex (inhomogeneous smoothing); `mask_spheres`:
-///   `(x, y, z, r, factor)` tuples and `mask_boxes`: `(x0, y0, z0, x1, y1, z1, factor)`
-///   tuples scale it inside them.
+///   `(x, y, z, r, factor)` rows and `mask_boxes`: `(x0, y0, z0, x1, y1, z1, factor)` rows
+///   (tuples, lists, or the rows of a numpy array) scale it inside them.
 /// - `no_gaps`: turn off YBS's gap jumping.
-/// - `keep_orientation`: keep the triangles' winding. By default closed components facing
-///   inward are reversed first (curvature signs follow the normals).
+/// - `keep_orientation`: keep the triangles' winding. By default triangles wound against
+///   their neighbours, then closed surfaces facing inward, are reversed first (curvature
+///   signs follow the normals).
 /// - `no_twicing`: plain extremality smoothing, as HPW smooth (by default the residual the
 ///   smoothing removes is smoothed and added back: its noise reduction without the drift of
 ///   the zeros).
@@ -54,8 +61,10 @@ use crate::mesh::mesh_from_arrays;
 ///   command-line tool does: otherwise the surface, its fits and its lines end at every seam.
 ///   Triangles that repeat the corners of another are dropped too.
 ///
-/// Returns a `Lines`. Raises `ValueError` for bad arrays (shape, NaN, index out of range)
-/// or options.
+/// Returns a `Lines`. Raises `TypeError` for arguments of the wrong type (a string or floats
+/// where vertex indices are needed, a float where a count is), `ValueError` for bad values
+/// (shape, NaN, index out of range, a negative count) or options. The work releases the GIL;
+/// Ctrl-C raises `KeyboardInterrupt` when the stage running ends.
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, method = "hpw", *, threshold = None, min_length = None,
@@ -71,23 +80,32 @@ pub fn extract(
     method: &str,
     threshold: Option<&Bound<'_, PyAny>>,
     min_length: Option<f64>,
-    smooth_steps: Option<usize>,
+    smooth_steps: Option<&Bound<'_, PyAny>>,
     smooth_time: Option<f64>,
     crease_angle: Option<f64>,
     direction_support: Option<f64>,
     fair: Option<f64>,
-    pre_smooth: Option<usize>,
+    pre_smooth: Option<&Bound<'_, PyAny>>,
     estimator: Option<&str>,
     radius: Option<f64>,
-    rings: Option<usize>,
+    rings: Option<&Bound<'_, PyAny>>,
     mask: Option<&Bound<'_, PyAny>>,
-    mask_spheres: Option<Vec<[f64; 5]>>,
-    mask_boxes: Option<Vec<[f64; 7]>>,
+    mask_spheres: Option<&Bound<'_, PyAny>>,
+    mask_boxes: Option<&Bound<'_, PyAny>>,
     no_gaps: bool,
     keep_orientation: bool,
     no_weld: bool,
     no_twicing: bool,
 ) -> PyResult<Lines> {
+    let smooth_steps = smooth_steps.map(|n| count(n, "smooth_steps")).transpose()?;
+    let pre_smooth = pre_smooth.map(|n| count(n, "pre_smooth")).transpose()?;
+    let rings = rings.map(|n| count(n, "rings")).transpose()?;
+    let mask_spheres = mask_spheres
+        .map(|s| rows_of_numbers::<5>(s, "mask_spheres", "(x, y, z, r, factor)"))
+        .transpose()?;
+    let mask_boxes = mask_boxes
+        .map(|b| rows_of_numbers::<7>(b, "mask_boxes", "(x0, y0, z0, x1, y1, z1, factor)"))
+        .transpose()?;
     let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
     let mut options = ExtractOptions::for_method(choose("method", method, &METHODS)?);
     // `mesh_from_arrays` has oriented the mesh already, unless `keep_orientation`.
@@ -133,10 +151,42 @@ pub fn extract(
         &mask_spheres.unwrap_or_default(),
         &mask_boxes.unwrap_or_default(),
     )?;
-    let extraction = py
-        .detach(|| run_extract(&mesh, &options))
-        .map_err(to_py_err)?;
-    Ok(Lines::new(extraction.lines, Some(extraction.stats)))
+    let extraction = extract_interruptibly(py, &mesh, &options)?;
+    Lines::from_extraction(py, extraction)
+}
+
+/// [`crestline::extract::extract`] without the GIL, checking for signals when each stage
+/// starts and ends: the exception of a Python signal handler (`KeyboardInterrupt` for
+/// Ctrl-C) abandons the run there and is raised. A stage itself runs to its end.
+///
+/// # Errors
+/// The library's error as a Python exception, or the signal handler's.
+pub fn extract_interruptibly(
+    py: Python<'_>,
+    mesh: &TriMesh,
+    options: &ExtractOptions,
+) -> PyResult<Extraction> {
+    /// What unwinds out of the library when a signal handler raised: `resume_unwind` runs
+    /// no panic hook (nothing is printed) and only the frames of the run are left.
+    struct Interrupted(PyErr);
+
+    let outcome = py.detach(|| {
+        catch_unwind(AssertUnwindSafe(|| {
+            extract_with_progress(mesh, options, &mut |_, _| {
+                if let Err(raised) = Python::attach(|py| py.check_signals()) {
+                    resume_unwind(Box::new(Interrupted(raised)));
+                }
+            })
+        }))
+    });
+    match outcome {
+        Ok(extraction) => extraction.map_err(to_py_err),
+        Err(payload) => match payload.downcast::<Interrupted>() {
+            Ok(interrupted) => Err(interrupted.0),
+            // A panic of the library: on to pyo3, which raises `PanicException`.
+            Err(payload) => resume_unwind(payload),
+        },
+    }
 }
 
 /// The methods by their command-line names.
@@ -173,8 +223,9 @@ fn apply_threshold(
         return Ok(());
     }
     let value = threshold.extract().map_err(|_| {
-        invalid(format!(
-            "threshold takes a number or 'auto', got {threshold}"
+        wrong_type(format!(
+            "threshold takes a number or 'auto', got {}",
+            type_name(threshold)
         ))
     })?;
     options.pipeline.set_threshold(Threshold::Fixed(value));

@@ -1,36 +1,55 @@
 //! Feature lines as Python objects: `Lines` (all of them, with flat arrays and `write`) and
 //! `Line` (one polyline).
+//!
+//! Both pickle (and copy) by value: `Lines` with its lines' mesh locations, which
+//! `feature_distance` and `simplify` use on the mesh they were traced on, and its `stats`.
 
 use std::path::PathBuf;
 
-use crestline::extract::ExtractStats;
+use crestline::Vec3;
+use crestline::extract::{ExtractStats, Extraction};
 use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines};
-use crestline::lines::{FeatureLine, FeatureLines};
-use numpy::{PyArray1, PyArray2};
-use pyo3::exceptions::PyIndexError;
+use crestline::lines::{FeatureLine, FeatureLines, LineKind, SurfacePoint};
+use numpy::{Element, PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::{PyIndexError, PyOverflowError, PyTypeError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PySlice, PySliceMethods, PyType};
 
 use crate::arrays::vectors_array;
-use crate::error::{choose, to_py_err};
+use crate::error::{choose, invalid, to_py_err, type_name, wrong_type};
 
 /// Feature lines found on a mesh (or read from a file).
 ///
-/// `len(lines)`, `lines[i]` and `for line in lines` give `Line` objects. All lines at once:
-/// `points` (every point, (N, 3)) with `offsets` (line i is `points[offsets[i]:offsets[i+1]]`),
-/// and per line `kinds`, `lengths`, `strengths`, `curvature_integrals`, `closed`.
-/// `write(path)` saves them as the command-line tool does (OBJ, PLY or JSON).
+/// `len(lines)`, `lines[i]` and `for line in lines` give `Line` objects; `lines[i:j]` (any
+/// slice) gives a `Lines` of those lines. All lines at once: `points` (every point, (N, 3))
+/// with `offsets` (line i is `points[offsets[i]:offsets[i+1]]`), and per line `kinds`,
+/// `lengths`, `strengths`, `curvature_integrals`, `closed`. `write(path)` saves them as the
+/// command-line tool does (OBJ, PLY or JSON). `pickle` and `copy` keep everything, the
+/// lines' places on the mesh too.
 #[pyclass(module = "crestline", frozen)]
 pub struct Lines {
     lines: FeatureLines,
-    stats: Option<ExtractStats>,
+    /// The figures of the extraction as `stats` gives them (a copy each time); `None` for
+    /// lines read from a file or sliced out of others.
+    stats: Option<Py<PyDict>>,
 }
 
 impl Lines {
-    /// Wraps the lines of an extraction and its figures.
-    pub fn new(lines: FeatureLines, stats: Option<ExtractStats>) -> Self {
-        Lines { lines, stats }
+    /// The lines of an extraction, with its figures.
+    ///
+    /// # Errors
+    /// When Python cannot build the figures' dict (out of memory).
+    pub fn from_extraction(py: Python<'_>, extraction: Extraction) -> PyResult<Self> {
+        Ok(Lines {
+            stats: Some(stats_dict(py, &extraction.stats)?.unbind()),
+            lines: extraction.lines,
+        })
+    }
+
+    /// Lines without figures (read from a file, or some of other lines).
+    pub fn without_stats(lines: FeatureLines) -> Self {
+        Lines { lines, stats: None }
     }
 
     /// The library's lines.
@@ -53,14 +72,59 @@ impl Lines {
         self.lines.lines.len()
     }
 
-    fn __getitem__(&self, py: Python<'_>, index: isize) -> PyResult<Line> {
-        let n = self.lines.lines.len();
-        let i = if index < 0 { index + n as isize } else { index };
-        let line = usize::try_from(i)
-            .ok()
-            .and_then(|i| self.lines.lines.get(i))
-            .ok_or_else(|| PyIndexError::new_err(format!("line {index} of {n}")))?;
-        Line::of(py, line)
+    /// `lines[i]`: a `Line` (`i` negative counts from the end); `lines[i:j:k]`: a `Lines` of
+    /// those lines, without `stats`.
+    fn __getitem__<'py>(
+        &self,
+        py: Python<'py>,
+        index: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let all = &self.lines.lines;
+        if let Ok(slice) = index.cast::<PySlice>() {
+            let picked = slice.indices(isize::try_from(all.len())?)?;
+            let lines = (0..picked.slicelength)
+                .filter_map(|k| isize::try_from(k).ok())
+                .filter_map(|k| usize::try_from(picked.start + k * picked.step).ok())
+                .filter_map(|i| all.get(i).cloned())
+                .collect();
+            let lines = Lines::without_stats(FeatureLines { lines });
+            return Ok(Bound::new(py, lines)?.into_any());
+        }
+        let out_of_range = || PyIndexError::new_err(format!("line {index} of {}", all.len()));
+        let i: isize = match index.extract() {
+            Ok(i) => i,
+            Err(e) if e.is_instance_of::<PyOverflowError>(py) => return Err(out_of_range()),
+            Err(e) if e.is_instance_of::<PyTypeError>(py) => {
+                return Err(wrong_type(format!(
+                    "Lines indices must be integers or slices, not {}",
+                    type_name(index)
+                )));
+            }
+            Err(e) => return Err(e),
+        };
+        let from_start = if i < 0 {
+            all.len().checked_sub(i.unsigned_abs())
+        } else {
+            usize::try_from(i).ok()
+        };
+        let line = from_start
+            .and_then(|i| all.get(i))
+            .ok_or_else(out_of_range)?;
+        Ok(Bound::new(py, Line::of(py, line)?)?.into_any())
+    }
+
+    /// Pickling: the lines rebuilt by `Lines._from_state` from the dict of their arrays.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyDict>,))> {
+        let rebuild = slf.get_type().getattr("_from_state")?;
+        Ok((rebuild, (lines_state(slf.py(), slf.get())?,)))
+    }
+
+    /// The lines a `__reduce__` state describes (not for direct use).
+    #[classmethod]
+    fn _from_state(_cls: &Bound<'_, PyType>, state: &Bound<'_, PyDict>) -> PyResult<Self> {
+        lines_from_state(state)
     }
 
     fn __iter__(slf: Bound<'_, Self>) -> PyResult<Bound<'_, PyAny>> {
@@ -157,10 +221,16 @@ impl Lines {
     /// (triangles, singular triangles per family, lines traced and kept, threshold, seconds
     /// per stage; `jet_fit`: the sample spacing, the radius in spacings, the noise level and
     /// its standard deviation in spacings and the quartic weight the fit chose, `None` for
-    /// the other estimators); `None` for lines read from a file.
+    /// the other estimators); `None` for lines read from a file or sliced out of others. A
+    /// copy each time.
     #[getter]
-    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        self.stats.as_ref().map(|s| stats_dict(py, s)).transpose()
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        // A copy: changing the dict given does not change the lines' figures.
+        let deepcopy = py.import("copy")?.getattr("deepcopy")?;
+        self.stats
+            .as_ref()
+            .map(|s| deepcopy.call1((s,)))
+            .transpose()
     }
 
     /// Writes the lines to `path` as the command-line tool does: OBJ (`o ridges` / `o
@@ -245,6 +315,9 @@ impl Line {
     }
 }
 
+/// The attributes of a `Line` in the order `Line._from_fields` takes them.
+type LineFields<'py> = (&'static str, Bound<'py, PyArray2<f64>>, bool, f64, f64, f64);
+
 #[pymethods]
 impl Line {
     fn __repr__(&self) -> String {
@@ -256,14 +329,243 @@ impl Line {
             self.strength
         )
     }
+
+    /// Pickling: the line rebuilt by `Line._from_fields` from its attributes.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, LineFields<'py>)> {
+        let line = slf.get();
+        let rebuild = slf.get_type().getattr("_from_fields")?;
+        let fields = (
+            line.kind,
+            line.points.bind(slf.py()).clone(),
+            line.closed,
+            line.length,
+            line.strength,
+            line.curvature_integral,
+        );
+        Ok((rebuild, fields))
+    }
+
+    /// The line of a `__reduce__`'s attributes (not for direct use).
+    #[classmethod]
+    fn _from_fields(
+        _cls: &Bound<'_, PyType>,
+        kind: &str,
+        points: Bound<'_, PyArray2<f64>>,
+        closed: bool,
+        length: f64,
+        strength: f64,
+        curvature_integral: f64,
+    ) -> PyResult<Self> {
+        let (name, _, _) = kind_of_name(kind)?;
+        Ok(Line {
+            kind: name,
+            points: points.unbind(),
+            closed,
+            length,
+            strength,
+            curvature_integral,
+        })
+    }
 }
 
 /// Reads feature lines from a file `Lines.write` or `crestline extract` wrote: OBJ, PLY or
-/// JSON, chosen by the extension, with kinds (crease kinds too) and strengths.
+/// JSON, with kinds (crease kinds too) and strengths. The format follows the extension
+/// unless `format` names it: "obj", "ply" or "json", as for `Lines.write`.
+///
+/// Raises `ValueError` for a malformed file or an unknown format, `OSError` when it cannot
+/// be read.
 #[pyfunction]
-pub fn read_lines(py: Python<'_>, path: PathBuf) -> PyResult<Lines> {
+#[pyo3(signature = (path, format = None))]
+pub fn read_lines(py: Python<'_>, path: PathBuf, format: Option<&str>) -> PyResult<Lines> {
+    let format = format
+        .map(|name| choose("format", name, &LINES_FORMATS))
+        .transpose()?;
     let lines = py
-        .detach(|| crestline::io::lines::read_lines(&path, None))
+        .detach(|| crestline::io::lines::read_lines(&path, format))
         .map_err(to_py_err)?;
-    Ok(Lines::new(lines, None))
+    Ok(Lines::without_stats(lines))
+}
+
+/// The kinds of lines by their names: family and whether a crease.
+const KINDS: [(&str, LineKind, bool); 4] = [
+    ("ridge", LineKind::Ridge, false),
+    ("valley", LineKind::Valley, false),
+    ("crease-ridge", LineKind::Ridge, true),
+    ("crease-valley", LineKind::Valley, true),
+];
+
+fn kind_of_name(name: &str) -> PyResult<(&'static str, LineKind, bool)> {
+    KINDS
+        .iter()
+        .find(|(known, _, _)| *known == name)
+        .copied()
+        .ok_or_else(|| invalid(format!("unknown kind of line '{name}'")))
+}
+
+/// The codes of the kinds of mesh locations in a pickled state.
+const AT_VERTEX: u8 = 0;
+const ON_EDGE: u8 = 1;
+const IN_FACE: u8 = 2;
+
+/// `lines` as a dict of arrays, for pickling: the attributes `Lines` gives (`kinds`,
+/// `points`, `offsets`, `closed`, `lengths`, `strengths`, `curvature_integrals`), the mesh
+/// locations of the points (`location_offsets` per line as `offsets`; per location its kind,
+/// vertex, edge or face index and edge parameter) and `stats`.
+fn lines_state<'py>(py: Python<'py>, lines: &Lines) -> PyResult<Bound<'py, PyDict>> {
+    let all = &lines.lines.lines;
+    let locations = all.iter().flat_map(|l| l.locations.iter());
+    let location_kinds: Vec<u8> = locations
+        .clone()
+        .map(|at| match at {
+            SurfacePoint::Vertex(_) => AT_VERTEX,
+            SurfacePoint::Edge { .. } => ON_EDGE,
+            SurfacePoint::Face { .. } => IN_FACE,
+        })
+        .collect();
+    let location_indices: Vec<u32> = locations
+        .clone()
+        .map(|at| match *at {
+            SurfacePoint::Vertex(v) => v,
+            SurfacePoint::Edge { edge, .. } => edge,
+            SurfacePoint::Face { face } => face,
+        })
+        .collect();
+    let location_parameters: Vec<f64> = locations
+        .map(|at| match *at {
+            SurfacePoint::Edge { t, .. } => t,
+            SurfacePoint::Vertex(_) | SurfacePoint::Face { .. } => 0.0,
+        })
+        .collect();
+    let state = PyDict::new(py);
+    state.set_item("kinds", lines.kinds())?;
+    state.set_item("points", lines.points(py)?)?;
+    state.set_item("offsets", lines.offsets(py))?;
+    state.set_item("closed", lines.closed(py))?;
+    state.set_item("lengths", lines.lengths(py))?;
+    state.set_item("strengths", lines.strengths(py))?;
+    state.set_item("curvature_integrals", lines.curvature_integrals(py))?;
+    let location_offsets = ends(all.iter().map(|l| l.locations.len()));
+    state.set_item("location_offsets", PyArray1::from_vec(py, location_offsets))?;
+    state.set_item("location_kinds", PyArray1::from_vec(py, location_kinds))?;
+    state.set_item("location_indices", PyArray1::from_vec(py, location_indices))?;
+    state.set_item(
+        "location_parameters",
+        PyArray1::from_vec(py, location_parameters),
+    )?;
+    state.set_item("stats", lines.stats.as_ref())?;
+    Ok(state)
+}
+
+/// Where each run of `lengths` starts, then where the last ends: `len + 1` values from 0.
+fn ends(lengths: impl Iterator<Item = usize>) -> Vec<usize> {
+    std::iter::once(0)
+        .chain(lengths.scan(0, |end, n| {
+            *end += n;
+            Some(*end)
+        }))
+        .collect()
+}
+
+/// The lines of a dict [`lines_state`] made.
+///
+/// # Errors
+/// `ValueError` for a dict it did not make (a key missing, arrays that do not agree).
+fn lines_from_state(state: &Bound<'_, PyDict>) -> PyResult<Lines> {
+    let kinds: Vec<String> = state_item(state, "kinds")?.extract()?;
+    let points = state_column::<f64>(state, "points")?;
+    let offsets = state_column::<usize>(state, "offsets")?;
+    let closed = state_column::<bool>(state, "closed")?;
+    let lengths = state_column::<f64>(state, "lengths")?;
+    let strengths = state_column::<f64>(state, "strengths")?;
+    let integrals = state_column::<f64>(state, "curvature_integrals")?;
+    let location_offsets = state_column::<usize>(state, "location_offsets")?;
+    let location_kinds = state_column::<u8>(state, "location_kinds")?;
+    let location_indices = state_column::<u32>(state, "location_indices")?;
+    let location_parameters = state_column::<f64>(state, "location_parameters")?;
+    let n = kinds.len();
+    let bad = || invalid("not the state of a crestline.Lines: its arrays do not agree");
+    let ascending = |ends: &[usize]| ends.windows(2).all(|w| w[0] <= w[1]);
+    let agree = [offsets.len(), location_offsets.len()] == [n + 1, n + 1]
+        && ascending(&offsets)
+        && ascending(&location_offsets)
+        && [
+            closed.len(),
+            lengths.len(),
+            strengths.len(),
+            integrals.len(),
+        ] == [n; 4]
+        && offsets.last().map(|&end| 3 * end) == Some(points.len())
+        && location_offsets.last() == Some(&location_kinds.len())
+        && [location_indices.len(), location_parameters.len()] == [location_kinds.len(); 2];
+    if !agree {
+        return Err(bad());
+    }
+    let mut lines = Vec::with_capacity(n);
+    for (i, name) in kinds.iter().enumerate() {
+        let (_, kind, crease) = kind_of_name(name)?;
+        let xyz = points
+            .get(3 * offsets[i]..3 * offsets[i + 1])
+            .ok_or_else(bad)?;
+        let places = location_offsets[i]..location_offsets[i + 1];
+        let locations = location_kinds
+            .get(places.clone())
+            .zip(location_indices.get(places.clone()))
+            .zip(location_parameters.get(places))
+            .ok_or_else(bad)?;
+        let locations = locations
+            .0
+            .0
+            .iter()
+            .zip(locations.0.1)
+            .zip(locations.1)
+            .map(|((&at, &index), &t)| match at {
+                AT_VERTEX => Ok(SurfacePoint::Vertex(index)),
+                ON_EDGE => Ok(SurfacePoint::Edge { edge: index, t }),
+                IN_FACE => Ok(SurfacePoint::Face { face: index }),
+                _ => Err(bad()),
+            })
+            .collect::<PyResult<_>>()?;
+        lines.push(FeatureLine {
+            kind,
+            points: xyz
+                .chunks_exact(3)
+                .map(|p| Vec3::new(p[0], p[1], p[2]))
+                .collect(),
+            locations,
+            closed: closed[i],
+            length: lengths[i],
+            curvature_integral: integrals[i],
+            strength: strengths[i],
+            crease,
+        });
+    }
+    let stats = state_item(state, "stats")?;
+    let stats = if stats.is_none() {
+        None
+    } else {
+        Some(stats.cast_into::<PyDict>()?.unbind())
+    };
+    Ok(Lines {
+        lines: FeatureLines { lines },
+        stats,
+    })
+}
+
+fn state_item<'py>(state: &Bound<'py, PyDict>, key: &str) -> PyResult<Bound<'py, PyAny>> {
+    state
+        .get_item(key)?
+        .ok_or_else(|| invalid(format!("not the state of a crestline.Lines: no '{key}'")))
+}
+
+/// The values of the array `state[key]`, flattened, as `T` (numpy converts them).
+fn state_column<T: Element + Copy>(state: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<T>> {
+    let py = state.py();
+    let flat = py.import("numpy")?.call_method1(
+        "ascontiguousarray",
+        (
+            state_item(state, key)?.call_method0("ravel")?,
+            T::get_dtype(py),
+        ),
+    )?;
+    Ok(flat.cast_into::<PyArray1<T>>()?.to_vec()?)
 }

@@ -41,7 +41,8 @@ pub fn read_mesh<'py>(
 
 /// The mesh of `vertices` and `faces` (array-likes), its vertices at one position welded
 /// unless `no_weld` ([`crestline::mesh::weld_coincident`], as the command-line tool does) and
-/// its closed components turned outward unless `keep_orientation`; with the weld, which
+/// its triangles wound consistently and its closed surfaces turned outward unless
+/// `keep_orientation` ([`crestline::mesh::orient_outward`]); with the weld, which
 /// carries values per vertex between the arrays and the mesh. The arrays are read with the
 /// GIL held; the mesh is built without it.
 ///

@@ -8,8 +8,8 @@ use crestline::render::{
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use crate::arrays::per_vertex;
-use crate::error::{choose, invalid, to_py_err};
+use crate::arrays::{counts, numbers, per_vertex};
+use crate::error::{choose, to_py_err};
 use crate::lines::Lines;
 use crate::mesh::mesh_from_arrays;
 
@@ -19,7 +19,8 @@ use crate::mesh::mesh_from_arrays;
 /// Without `path` returns the PNG file's bytes; with `path` writes a PNG, SVG (raster mesh,
 /// vector lines) or HTML (the self-contained WebGL viewer) picture, chosen by the extension,
 /// and returns None. Options, with the defaults of `crestline render`: `view` (azimuth,
-/// elevation) in degrees (30, 20); `size` (width, height) in pixels (1024, 1024); `up`
+/// elevation) in degrees (30, 20); `size` (width, height) in pixels (1024, 1024), both any
+/// sequence of two numbers (a tuple, a list, a numpy array); `up`
 /// "auto" (guessed from the mesh: "z" when it stands on a flat base along Z, else "y"), "y"
 /// or "z"; `colormap` "auto", "viridis" or "diverging"; `field_range` the field values at the
 /// ends of the colour map, a percentile p (the p-th to (100-p)-th percentiles, 0 for the whole
@@ -39,8 +40,8 @@ pub fn render<'py>(
     lines: Option<Bound<'py, Lines>>,
     field: Option<&Bound<'py, PyAny>>,
     path: Option<PathBuf>,
-    view: Option<(f64, f64)>,
-    size: Option<(u32, u32)>,
+    view: Option<&Bound<'py, PyAny>>,
+    size: Option<&Bound<'py, PyAny>>,
     up: &str,
     colormap: &str,
     field_range: Option<&Bound<'py, PyAny>>,
@@ -58,10 +59,12 @@ pub fn render<'py>(
         .map(|f| per_vertex(f, mesh.num_vertices(), "field"))
         .transpose()?;
     let mut options = RenderOptions::default();
-    if let Some((azimuth, elevation)) = view {
+    if let Some(view) = view {
+        let [azimuth, elevation] = numbers(view, "view", "(azimuth, elevation)")?;
         options = options.with_view(azimuth, elevation);
     }
-    if let Some((width, height)) = size {
+    if let Some(size) = size {
+        let [width, height] = counts::<u32, 2>(size, "size", "(width, height)")?;
         options = options.with_size(width, height);
     }
     options.up = choose(
@@ -104,16 +107,16 @@ pub fn render<'py>(
     }
 }
 
-/// `field_range` as the library's: a number is a percentile, a pair the end values (both
-/// checked with the other options).
+/// `field_range` as the library's: a number is a percentile, a sequence of two the end
+/// values (both checked with the other options).
 fn field_range_from(value: &Bound<'_, PyAny>) -> PyResult<FieldRange> {
     if let Ok(p) = value.extract::<f64>() {
         return Ok(FieldRange::Percentile(p));
     }
-    if let Ok((min, max)) = value.extract::<(f64, f64)>() {
-        return Ok(FieldRange::Fixed { min, max });
-    }
-    Err(invalid(
-        "field_range must be a percentile (a number from 0 to below 50) or (min, max)",
-    ))
+    let [min, max] = numbers(
+        value,
+        "field_range",
+        "(min, max), or a percentile (a number from 0 to below 50)",
+    )?;
+    Ok(FieldRange::Fixed { min, max })
 }

@@ -3,14 +3,15 @@
 
 use crestline::TriMesh;
 use crestline::distance::{DistanceOptions, feature_distance as run_feature_distance};
-use crestline::extract::{ExtractOptions, extract};
+use crestline::extract::ExtractOptions;
 use crestline::lines::FeatureLines;
 use crestline::simplify::{SimplifyOptions, Target, simplify as run_simplify};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 
-use crate::arrays::{MeshArrays, triangles_array, vectors_array};
+use crate::arrays::{MeshArrays, count, triangles_array, vectors_array};
 use crate::error::{invalid, to_py_err};
+use crate::extract::extract_interruptibly;
 use crate::lines::Lines;
 use crate::mesh::{mesh_from_arrays, per_given_vertex};
 
@@ -24,7 +25,8 @@ use crate::mesh::{mesh_from_arrays, per_given_vertex};
 /// `eps`: the regularisation epsilon of eq. 7 (default 0.1). `keep_orientation` and `no_weld`
 /// as for `extract` (by default vertices at one position are made one first).
 ///
-/// Returns `(vertices, faces)` of the simplified mesh as float64 and int64 arrays.
+/// Returns `(vertices, faces)` of the simplified mesh as float64 and int64 arrays. Ctrl-C
+/// interrupts the extraction of the lines (at its next stage), not the simplification.
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, lines = None, *, ratio = None, target_faces = None, eta = None,
@@ -36,12 +38,13 @@ pub fn simplify<'py>(
     faces: &Bound<'py, PyAny>,
     lines: Option<Bound<'py, Lines>>,
     ratio: Option<f64>,
-    target_faces: Option<usize>,
+    target_faces: Option<&Bound<'py, PyAny>>,
     eta: Option<f64>,
     eps: Option<f64>,
     keep_orientation: bool,
     no_weld: bool,
 ) -> PyResult<MeshArrays<'py>> {
+    let target_faces = target_faces.map(|n| count(n, "target_faces")).transpose()?;
     let mut options = SimplifyOptions::default();
     options.target = match (ratio, target_faces) {
         (Some(_), Some(_)) => return Err(invalid("give ratio or target_faces, not both")),
@@ -52,20 +55,17 @@ pub fn simplify<'py>(
     options.eta = eta.unwrap_or(options.eta);
     options.eps = eps.unwrap_or(options.eps);
     let (mesh, _) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
-    let given = lines.as_ref().map(|l| l.get().feature_lines());
+    let extracted;
+    let lines = match lines.as_ref() {
+        Some(lines) => lines.get().feature_lines(),
+        None if options.eta == 0.0 => &FeatureLines::default(),
+        None => {
+            extracted = guiding_lines(py, &mesh)?;
+            &extracted
+        }
+    };
     let simplified = py
-        .detach(|| {
-            let extracted;
-            let lines = match given {
-                Some(lines) => lines,
-                None if options.eta == 0.0 => &FeatureLines::default(),
-                None => {
-                    extracted = guiding_lines(&mesh)?;
-                    &extracted
-                }
-            };
-            run_simplify(&mesh, lines, &options)
-        })
+        .detach(|| run_simplify(&mesh, lines, &options))
         .map_err(to_py_err)?;
     let mesh = simplified.mesh;
     Ok((
@@ -81,7 +81,8 @@ pub fn simplify<'py>(
 /// of also across triangles. `keep_orientation` and `no_weld` as for `extract` (vertices at
 /// one position are one by default; each copy gets its distance). Returns an (n,) float64
 /// array, one value per vertex given; vertices no line reaches (other components,
-/// unreferenced vertices) get `inf`.
+/// unreferenced vertices) get `inf`. Ctrl-C interrupts the extraction of the lines (at its
+/// next stage), not the propagation.
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, lines = None, *, edges_only = false, keep_orientation = false, no_weld = false,
@@ -96,20 +97,17 @@ pub fn feature_distance<'py>(
     no_weld: bool,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
-    let given = lines.as_ref().map(|l| l.get().feature_lines());
     let options = DistanceOptions::default().with_relax_across_triangles(!edges_only);
+    let extracted;
+    let lines = match lines.as_ref() {
+        Some(lines) => lines.get().feature_lines(),
+        None => {
+            extracted = guiding_lines(py, &mesh)?;
+            &extracted
+        }
+    };
     let distance = py
-        .detach(|| {
-            let extracted;
-            let lines = match given {
-                Some(lines) => lines,
-                None => {
-                    extracted = guiding_lines(&mesh)?;
-                    &extracted
-                }
-            };
-            run_feature_distance(&mesh, lines, &options)
-        })
+        .detach(|| run_feature_distance(&mesh, lines, &options))
         .map_err(to_py_err)?;
     Ok(PyArray1::from_vec(
         py,
@@ -118,11 +116,11 @@ pub fn feature_distance<'py>(
 }
 
 /// The lines `simplify` and `feature_distance` use when none are given.
-fn guiding_lines(mesh: &TriMesh) -> crestline::Result<FeatureLines> {
+fn guiding_lines(py: Python<'_>, mesh: &TriMesh) -> PyResult<FeatureLines> {
     // `mesh_from_arrays` has oriented the mesh already, unless `keep_orientation`.
     let options = ExtractOptions {
         orient_outward: false,
         ..ExtractOptions::default()
     };
-    Ok(extract(mesh, &options)?.lines)
+    Ok(extract_interruptibly(py, mesh, &options)?.lines)
 }

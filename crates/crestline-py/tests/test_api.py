@@ -1,5 +1,11 @@
 """The results: lines and their arrays, files, curvature, simplification, distance, pictures."""
 
+import _thread
+import copy
+import functools
+import operator
+import pickle
+import signal
 import threading
 
 import numpy as np
@@ -195,3 +201,118 @@ def test_pieces_side_by_side_are_welded():
     np.testing.assert_allclose(fields["dir_max"].shape, (len(pieces[0]), 3))
     distance = crestline.feature_distance(*pieces, welded)
     assert distance.shape == (len(pieces[0]),) and np.isfinite(distance).all()
+
+
+def test_read_lines_takes_a_format(lines, tmp_path):
+    path = tmp_path / "lines.data"
+    lines.write(path, format="json")
+    with pytest.raises(ValueError, match="extension"):
+        crestline.read_lines(path)
+    for name in ("json", "JSON"):
+        back = crestline.read_lines(path, format=name)
+        assert back.kinds == lines.kinds
+        np.testing.assert_array_equal(back.strengths, lines.strengths)
+    ply = tmp_path / "lines.obj"
+    lines.write(ply, format="ply")
+    assert crestline.read_lines(ply, format="ply").kinds == lines.kinds
+    with pytest.raises(ValueError, match="format must be one of 'obj', 'ply', 'json'"):
+        crestline.read_lines(path, format="svg")
+
+
+def same_lines(a, b):
+    assert a.kinds == b.kinds
+    for name in ("points", "offsets", "lengths", "strengths", "curvature_integrals", "closed"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+
+
+def test_lines_slice(fandisk, lines):
+    offsets = lines.offsets
+    some = lines[2:5]
+    assert isinstance(some, crestline.Lines) and len(some) == 3
+    np.testing.assert_array_equal(some.points, lines.points[offsets[2] : offsets[5]])
+    assert some.kinds == lines.kinds[2:5] and some.stats is None
+    np.testing.assert_array_equal(some.lengths, lines.lengths[2:5])
+    for index in (slice(None, None, -1), slice(1, None, 3), slice(-4, None), slice(5, 2), slice(3)):
+        part = lines[index]
+        assert part.kinds == lines.kinds[index]
+        np.testing.assert_array_equal(part.strengths, lines.strengths[index])
+        np.testing.assert_array_equal(part.closed, lines.closed[index])
+    assert len(lines[len(lines) :]) == 0 and len(lines[-10**30 : 10**30]) == len(lines)
+    # A slice keeps the lines' places on the mesh: the distance to all of them is the same.
+    np.testing.assert_array_equal(
+        crestline.feature_distance(*fandisk, lines[:]), crestline.feature_distance(*fandisk, lines)
+    )
+    assert lines[np.int64(1)].length == lines[1].length == lines[-len(lines) + 1].length
+    with pytest.raises(IndexError):
+        lines[10**20]
+    with pytest.raises(IndexError):
+        lines[-len(lines) - 1]
+    with pytest.raises(TypeError, match="integers or slices, not float"):
+        lines[1.0]
+
+
+@pytest.mark.parametrize("protocol", [0, 2, pickle.HIGHEST_PROTOCOL])
+def test_lines_pickle(fandisk, lines, protocol):
+    back = pickle.loads(pickle.dumps(lines, protocol=protocol))
+    assert isinstance(back, crestline.Lines)
+    same_lines(back, lines)
+    assert back.stats == lines.stats and back.stats is not None
+    # The lines' places on the mesh come along: the distance to them is the same to the bit.
+    np.testing.assert_array_equal(
+        crestline.feature_distance(*fandisk, back), crestline.feature_distance(*fandisk, lines)
+    )
+    line = pickle.loads(pickle.dumps(lines[3], protocol=protocol))
+    assert (line.kind, line.closed, line.length, line.strength) == (
+        lines[3].kind,
+        lines[3].closed,
+        lines[3].length,
+        lines[3].strength,
+    )
+    np.testing.assert_array_equal(line.points, lines[3].points)
+
+
+def test_lines_copy_and_pickle_of_read_and_empty_lines(fandisk, lines, tmp_path):
+    same_lines(copy.copy(lines), lines)
+    same_lines(copy.deepcopy(lines), lines)
+    lines.write(tmp_path / "lines.ply")
+    read = crestline.read_lines(tmp_path / "lines.ply")
+    back = pickle.loads(pickle.dumps(read))
+    same_lines(back, read)
+    assert back.stats is None
+    np.testing.assert_array_equal(
+        crestline.feature_distance(*fandisk, back), crestline.feature_distance(*fandisk, read)
+    )
+    empty = pickle.loads(pickle.dumps(lines[:0]))
+    assert len(empty) == 0 and empty.points.shape == (0, 3)
+
+
+def test_stats_are_a_copy(lines):
+    stats = lines.stats
+    stats["lines"] = -1
+    stats["stage_seconds"].clear()
+    assert lines.stats["lines"] == len(lines) and lines.stats["stage_seconds"]
+
+
+@pytest.mark.parametrize(
+    "work", [crestline.extract, crestline.feature_distance, crestline.simplify]
+)
+def test_ctrl_c_stops_the_extraction(fandisk, work):
+    """A Ctrl-C that arrives during an extraction ends it with KeyboardInterrupt at the next
+    stage, not after the whole run.
+
+    The signal is made pending just before the call, with no Python code between that could
+    act on it: `map` calls `_thread.interrupt_main` and then the work (compiled functions
+    only), and `results.append` keeps what each returns. Without the checks between stages
+    the work would run to its end (and be kept) before the interpreter raised.
+    """
+    results = []
+    calls = [_thread.interrupt_main, functools.partial(work, *fandisk)]
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            list(map(results.append, map(operator.methodcaller("__call__"), calls)))
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert results == [None]
+    # Nothing is left behind: the next run is whole.
+    assert len(crestline.extract(*fandisk)) > 10

@@ -87,12 +87,10 @@ def test_curvature_accepts_the_same(mesh):
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 3]], "refers to a vertex beyond"),
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, -1]], r"outside \[0, 2\^32\)"),
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2**40]], r"outside \[0, 2\^32\)"),
-        ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0.0, 1.0, 2.0]], "integer vertex indices"),
         ([[0, 0, 0], [1, float("nan"), 0], [0, 1, 0]], [[0, 1, 2]], "non-finite coordinate"),
         ([[0, 0, 0], [1, float("inf"), 0], [0, 1, 0]], [[0, 1, 2]], "non-finite coordinate"),
-        ([["a", "b", "c"]], [[0, 1, 2]], "vertices is not an array of numbers"),
         ([[0, 0, 0], [1, 0]], [[0, 1, 2]], "vertices is not an array of numbers"),
-        ("not an array", [[0, 1, 2]], "vertices"),
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2], [0, 1]], "faces is not an array of numbers"),
     ],
 )
 def test_bad_arrays_raise_value_error(vertices, faces, message):
@@ -108,7 +106,6 @@ def test_bad_arrays_raise_value_error(vertices, faces, message):
         (dict(method="cgal"), "method must be one of"),
         (dict(estimator="magic"), "estimator must be one of"),
         (dict(threshold="high"), "threshold takes a number or 'auto'"),
-        (dict(threshold=[1]), "threshold takes a number or 'auto'"),
         (dict(radius=-1.0), "radius must be a positive number"),
         (dict(radius=float("nan")), "radius must be a positive number"),
         (dict(rings=9), "ring"),
@@ -121,6 +118,154 @@ def test_bad_arrays_raise_value_error(vertices, faces, message):
 def test_bad_options_raise_value_error(options, message):
     with pytest.raises(ValueError, match=message):
         crestline.extract(*tetrahedron(), **options)
+
+
+TRIANGLE = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+
+
+@pytest.mark.parametrize(
+    "vertices, faces, message",
+    [
+        # Values of the wrong kind where vertex indices are needed.
+        (TRIANGLE, [[0.0, 1.0, 2.0]], "faces must hold integer vertex indices, got dtype float64"),
+        (TRIANGLE, np.array([[0, 1, 2]], dtype=np.float32), "indices, got dtype float32"),
+        (TRIANGLE, np.array([[True, False, True]]), "integer vertex indices, got dtype bool"),
+        (TRIANGLE, [["0", "1", "2"]], "integer vertex indices, got dtype <U1"),
+        (TRIANGLE, np.array([[0, 1, 2]], dtype="datetime64[s]"), "integer vertex indices"),
+        # Values of the wrong kind where coordinates are needed.
+        ([["a", "b", "c"]], [[0, 1, 2]], "vertices must hold real numbers, got dtype <U1"),
+        (np.array(TRIANGLE, dtype=complex), [[0, 1, 2]], "real numbers, got dtype complex128"),
+        (np.array(TRIANGLE, dtype=float).astype(str), [[0, 1, 2]], "real numbers, got dtype <U32"),
+        (np.zeros(3, dtype=[("x", "f8"), ("y", "f8"), ("z", "f8")]), [[0, 1, 2]], "real numbers"),
+        (np.array([[0, 0, 0], [1, 0, 0], [0, 1, None]], dtype=object), [[0, 1, 2]], "real numbers"),
+        # No array at all.
+        ("not an array", [[0, 1, 2]], "vertices must be an array-like, got str"),
+        (None, [[0, 1, 2]], "vertices must be an array-like, got NoneType"),
+        (3.0, [[0, 1, 2]], "vertices must be an array-like, got float"),
+        ({"a": 1}, [[0, 1, 2]], "vertices must be an array-like, got dict"),
+        ((row for row in TRIANGLE), [[0, 1, 2]], "vertices must be an array-like, got generator"),
+        (TRIANGLE, None, "faces must be an array-like, got NoneType"),
+    ],
+)
+def test_wrong_types_raise_type_error(vertices, faces, message):
+    for function in (crestline.extract, crestline.curvature, crestline.feature_distance):
+        with pytest.raises(TypeError, match=message):
+            function(vertices, faces)
+
+
+def test_arrays_of_python_numbers_and_empty_arrays_of_any_dtype():
+    vertices, faces = tetrahedron()
+    reference = crestline.curvature(vertices, faces)
+    # Object arrays of numbers are read by their elements.
+    fields = crestline.curvature(vertices.astype(object), faces.astype(object))
+    np.testing.assert_array_equal(fields["k_max"], reference["k_max"])
+    # Empty is empty whatever the dtype numpy gave it.
+    for no_faces in ([], np.zeros((0, 3)), np.zeros((0, 3), dtype=str)):
+        assert len(crestline.extract(vertices, no_faces)) == 0
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        (dict(threshold=[1]), "threshold takes a number or 'auto', got list"),
+        (dict(mask="abc"), "mask must be an array-like, got str"),
+        (dict(mask=[["a"]] * 4), "mask must hold real numbers"),
+        (dict(smooth_steps=1.5), "smooth_steps must be a non-negative integer, got float"),
+        (dict(rings="2"), "rings must be a non-negative integer, got str"),
+        (dict(mask_spheres="abc"), "mask_spheres must be a sequence of"),
+        (dict(mask_spheres=[(0, 0, 0, "1", 0.5)]), r"mask_spheres\[0\]\[3\] must be a number, got str"),
+    ],
+)
+def test_options_of_the_wrong_type_raise_type_error(options, message):
+    with pytest.raises(TypeError, match=message):
+        crestline.extract(*tetrahedron(), **options)
+
+
+def test_other_functions_options_of_the_wrong_type_raise_type_error():
+    vertices, faces = tetrahedron()
+    with pytest.raises(TypeError, match="field must be an array-like, got str"):
+        crestline.render(vertices, faces, field="abc")
+    with pytest.raises(TypeError, match="field_range must be a sequence of 2 numbers"):
+        crestline.render(vertices, faces, field_range="x")
+    with pytest.raises(TypeError, match="view must be a sequence of 2 numbers"):
+        crestline.render(vertices, faces, view="ab")
+    with pytest.raises(TypeError, match=r"size\[1\] must be a non-negative integer, got float"):
+        crestline.render(vertices, faces, size=(64, 64.5))
+    with pytest.raises(TypeError, match="degree must be a non-negative integer"):
+        crestline.curvature(vertices, faces, degree=4.0)
+    with pytest.raises(TypeError, match="target_faces must be a non-negative integer"):
+        crestline.simplify(vertices, faces, target_faces="2")
+
+
+@pytest.mark.parametrize(
+    "function, options, message",
+    [
+        (crestline.extract, dict(rings=-1), "rings must be a non-negative integer, got -1"),
+        (crestline.extract, dict(smooth_steps=-2), "smooth_steps must be a non-negative integer"),
+        (crestline.extract, dict(pre_smooth=-1), "pre_smooth must be a non-negative integer"),
+        (crestline.extract, dict(smooth_steps=2**70), "smooth_steps must be an integer from 0 to"),
+        (crestline.extract, dict(rings=np.int64(-3)), "rings must be a non-negative integer, got -3"),
+        (crestline.curvature, dict(rings=-1), "rings must be a non-negative integer, got -1"),
+        (crestline.curvature, dict(degree=-1), "degree must be a non-negative integer, got -1"),
+        (crestline.simplify, dict(target_faces=-5), "target_faces must be a non-negative integer"),
+        (crestline.render, dict(size=(-5, 64)), r"size\[0\] must be a non-negative integer, got -5"),
+        (crestline.render, dict(size=(64, 2**32)), r"size\[1\] must be an integer from 0 to 4294967295"),
+    ],
+)
+def test_negative_counts_raise_value_error(function, options, message):
+    with pytest.raises(ValueError, match=message):
+        function(*tetrahedron(), **options)
+
+
+def test_counts_take_numpy_integers(fandisk):
+    vertices, faces = fandisk
+    np.testing.assert_array_equal(
+        crestline.extract(vertices, faces, smooth_steps=np.int32(3)).points,
+        crestline.extract(vertices, faces, smooth_steps=3).points,
+    )
+
+
+def test_view_and_size_take_any_sequence(fandisk):
+    vertices, faces = fandisk
+    png = crestline.render(vertices, faces, view=(40, 10), size=(48, 32))
+    for view, size in [
+        ([40, 10], [48, 32]),
+        (np.array([40.0, 10.0]), np.array([48, 32])),
+        (np.array([40, 10], dtype=np.int32), (np.uint16(48), np.int64(32))),
+        (range(40, 9, -30), range(48, 31, -16)),
+    ]:
+        assert crestline.render(vertices, faces, view=view, size=size) == png
+    field = np.arange(len(vertices), dtype=float)
+    coloured = crestline.render(vertices, faces, None, field, size=(32, 32), field_range=(10, 20))
+    for field_range in ([10, 20], np.array([10.0, 20.0])):
+        again = crestline.render(vertices, faces, None, field, size=(32, 32), field_range=field_range)
+        assert again == coloured
+    for bad in ((64,), [64, 64, 3]):
+        with pytest.raises(ValueError, match=r"size must have 2 values \(width, height\)"):
+            crestline.render(vertices, faces, size=bad)
+    with pytest.raises(ValueError, match=r"view must have 2 values \(azimuth, elevation\), got 3"):
+        crestline.render(vertices, faces, view=np.zeros(3))
+    with pytest.raises(ValueError, match="field_range must have 2 values"):
+        crestline.render(vertices, faces, field=field, field_range=(1, 2, 3))
+
+
+def test_mask_regions_take_any_sequence(fandisk):
+    vertices, faces = fandisk
+    centre = vertices.mean(axis=0)
+    sphere = (*centre, 0.5, 0.2)
+    box = (*(centre - 0.3), *(centre + 0.3), 0.1)
+    reference = crestline.extract(
+        vertices, faces, smooth_steps=2, mask_spheres=[sphere], mask_boxes=[box]
+    )
+    for spheres, boxes in [(np.array([sphere]), np.array([box])), ([list(sphere)], (list(box),))]:
+        lines = crestline.extract(
+            vertices, faces, smooth_steps=2, mask_spheres=spheres, mask_boxes=boxes
+        )
+        np.testing.assert_array_equal(lines.points, reference.points)
+    with pytest.raises(ValueError, match=r"mask_spheres\[0\] must have 5 values"):
+        crestline.extract(vertices, faces, mask_spheres=[(0, 0, 0, 1)])
+    with pytest.raises(ValueError, match=r"mask_boxes\[1\] must have 7 values"):
+        crestline.extract(vertices, faces, mask_boxes=[box, box[:6]])
 
 
 def test_bad_options_of_the_other_functions():

@@ -7,8 +7,11 @@
 >>> lines.write("lines.obj")
 
 Every function takes any array-like (a ``trimesh.Trimesh``'s ``.vertices`` and ``.faces`` as
-they are, float32 and int32 too), releases the GIL while it works, and raises ``ValueError``
-for bad input. Names and defaults are those of the ``crestline`` command-line tool.
+they are, float32 and int32 too), releases the GIL while it works, and raises ``TypeError``
+for arguments of the wrong type (a string where an array is needed, floats where vertex
+indices are) and ``ValueError`` for bad values (a wrong shape, NaN, a negative count). Ctrl-C
+stops an extraction at its next stage. ``Lines`` slice (``lines[:10]``) and pickle. Names and
+defaults are those of the ``crestline`` command-line tool.
 """
 
 from ._crestline import (

@@ -1,7 +1,7 @@
 """Type stubs of the compiled module ``crestline._crestline`` (re-exported by ``crestline``)."""
 
 import os
-from typing import Iterator, Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Iterator, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -11,6 +11,7 @@ __version__: str
 PathLike = Union[str, "os.PathLike[str]"]
 Method = Literal["hpw", "ybs", "saliency"]
 Estimator = Literal["jet-fit", "shape-operator", "cubic-fit"]
+LinesFormat = Literal["obj", "ply", "json"]
 
 class Line:
     """One feature line."""
@@ -27,18 +28,25 @@ class Line:
     """The strength T = ∫ds · ∫C ds of YBS eq. 5 (scale independent)."""
     curvature_integral: float
     """Integral of |k| along the line."""
+    def __reduce__(self) -> Tuple[Any, ...]: ...
 
 class Lines:
     """Feature lines found on a mesh (or read from a file).
 
-    ``len(lines)``, ``lines[i]`` and ``for line in lines`` give ``Line`` objects. All lines at
-    once: ``points`` with ``offsets`` (line i is ``points[offsets[i]:offsets[i+1]]``), and
-    per line ``kinds``, ``lengths``, ``strengths``, ``curvature_integrals``, ``closed``.
+    ``len(lines)``, ``lines[i]`` and ``for line in lines`` give ``Line`` objects; ``lines[i:j]``
+    (any slice) gives a ``Lines`` of those lines, without ``stats``. All lines at once:
+    ``points`` with ``offsets`` (line i is ``points[offsets[i]:offsets[i+1]]``), and per line
+    ``kinds``, ``lengths``, ``strengths``, ``curvature_integrals``, ``closed``. ``pickle`` and
+    ``copy`` keep everything, the lines' places on the mesh too.
     """
 
     def __len__(self) -> int: ...
+    @overload
     def __getitem__(self, index: int) -> Line: ...
+    @overload
+    def __getitem__(self, index: slice) -> "Lines": ...
     def __iter__(self) -> Iterator[Line]: ...
+    def __reduce__(self) -> Tuple[Any, ...]: ...
     @property
     def points(self) -> npt.NDArray[np.float64]:
         """Every point of every line, line after line: (N, 3) float64."""
@@ -65,8 +73,9 @@ class Lines:
         """The sum of the lengths."""
     @property
     def stats(self) -> Optional[dict]:
-        """Figures about the extraction (as ``crestline extract --stats json``); None for lines read from a file."""
-    def write(self, path: PathLike, format: Optional[Literal["obj", "ply", "json"]] = None) -> None:
+        """Figures about the extraction (as ``crestline extract --stats json``), a copy each time;
+        None for lines read from a file or sliced out of others."""
+    def write(self, path: PathLike, format: Optional[LinesFormat] = None) -> None:
         """Writes the lines as OBJ, PLY (binary) or JSON, chosen by ``format`` or the extension."""
 
 def read_mesh(
@@ -77,9 +86,12 @@ def read_mesh(
     Raises ValueError for a malformed file, OSError when it cannot be read.
     """
 
-def read_lines(path: PathLike) -> Lines:
+def read_lines(path: PathLike, format: Optional[LinesFormat] = None) -> Lines:
     """Reads feature lines from an OBJ, PLY or JSON file as ``Lines.write`` and ``crestline extract``
-    write them (format by extension), with kinds and strengths."""
+    write them, with kinds and strengths; the format follows the extension unless ``format`` names it.
+
+    Raises ValueError for a malformed file or an unknown format, OSError when it cannot be read.
+    """
 
 def extract(
     vertices: npt.ArrayLike,
@@ -98,8 +110,8 @@ def extract(
     radius: Optional[float] = None,
     rings: Optional[int] = None,
     mask: Optional[npt.ArrayLike] = None,
-    mask_spheres: Optional[Sequence[Tuple[float, float, float, float, float]]] = None,
-    mask_boxes: Optional[Sequence[Tuple[float, float, float, float, float, float, float]]] = None,
+    mask_spheres: Optional[Union[Sequence[Sequence[float]], npt.ArrayLike]] = None,
+    mask_boxes: Optional[Union[Sequence[Sequence[float]], npt.ArrayLike]] = None,
     no_gaps: bool = False,
     keep_orientation: bool = False,
     no_weld: bool = False,
@@ -121,15 +133,20 @@ def extract(
     - estimator: "jet-fit" (default), "shape-operator" or "cubic-fit".
     - radius: the jet fit's disc radius in sample spacings (default 2.5).
     - rings: the cubic fit's k-ring (1 to 8); selects the cubic fit unless estimator is given.
-    - mask, mask_spheres, mask_boxes: per-vertex diffusion factors and regions scaling them.
+    - mask, mask_spheres, mask_boxes: per-vertex diffusion factors and regions scaling them
+      (rows (x, y, z, r, factor) and (x0, y0, z0, x1, y1, z1, factor): tuples, lists or a numpy array).
     - no_gaps: turn off YBS's gap jumping.
-    - keep_orientation: keep the winding (default: closed components facing inward are reversed).
+    - keep_orientation: keep the winding (default: triangles wound against their neighbours, then
+      closed surfaces facing inward, are reversed).
     - no_twicing: plain extremality smoothing as HPW's (default: twiced, the residual smoothed
       and added back, which removes the drift of the zeros).
     - no_weld: keep vertices at the same position apart (default: they are made one first, as
       ``crestline extract`` does; the mask still has one value per vertex given).
 
-    Raises ValueError for bad arrays (shape, NaN, index out of range) or options.
+    Raises TypeError for arguments of the wrong type (a string or floats where vertex indices are
+    needed, a float where a count is), ValueError for bad values (shape, NaN, index out of range,
+    a negative count) or options. The GIL is released during the work; Ctrl-C raises
+    KeyboardInterrupt when the stage running ends.
     """
 
 def curvature(
@@ -151,7 +168,7 @@ def curvature(
 
     Defaults as ``crestline curvature``: the jet fit (the cubic fit when rings is given),
     rings 1, radius 2.5, degree 4. An option of another estimator than the one that runs
-    raises ValueError.
+    raises ValueError, as does a negative rings or degree.
     """
 
 def simplify(
@@ -170,7 +187,8 @@ def simplify(
 
     Vertices at one position are made one first unless no_weld.
 
-    Without ``lines`` they are extracted with the default method (unless eta is 0).
+    Without ``lines`` they are extracted with the default method (unless eta is 0); Ctrl-C
+    interrupts that extraction at its next stage. A negative target_faces raises ValueError.
     """
 
 def feature_distance(
@@ -185,6 +203,8 @@ def feature_distance(
     """Geodesic distance from every vertex given to the nearest line (inf where none is reached).
 
     Vertices at one position are made one first unless no_weld; each copy gets its distance.
+    Without ``lines`` they are extracted with the default method; Ctrl-C interrupts that
+    extraction at its next stage.
     """
 
 def render(
@@ -194,11 +214,11 @@ def render(
     field: Optional[npt.ArrayLike] = None,
     path: Optional[PathLike] = None,
     *,
-    view: Optional[Tuple[float, float]] = None,
-    size: Optional[Tuple[int, int]] = None,
+    view: Optional[Union[Sequence[float], npt.ArrayLike]] = None,
+    size: Optional[Union[Sequence[int], npt.ArrayLike]] = None,
     up: Literal["auto", "y", "z"] = "auto",
     colormap: Literal["auto", "viridis", "diverging"] = "auto",
-    field_range: Union[float, Tuple[float, float], None] = None,
+    field_range: Union[float, Sequence[float], npt.ArrayLike, None] = None,
     line_width: Optional[float] = None,
     no_ridges: bool = False,
     no_valleys: bool = False,
@@ -207,6 +227,9 @@ def render(
     wireframe: bool = False,
 ) -> Optional[bytes]:
     """A picture of the mesh, its lines and a field: PNG bytes, or a .png/.svg/.html file at ``path``.
+
+    view (azimuth, elevation) and size (width, height) are sequences of two numbers (tuples,
+    lists, numpy arrays); a negative size raises ValueError.
 
     Defaults as ``crestline render``: view (30, 20), size (1024, 1024), line width 2.5, colours
     clipped to the 2nd and 98th percentiles of the field (``field_range=p`` for the p-th, 0 for
