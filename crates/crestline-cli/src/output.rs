@@ -65,6 +65,55 @@ pub fn check_output(output: &Path, inputs: &[Option<&Path>]) -> Result<()> {
     Ok(())
 }
 
+/// The extensions of the files crestline writes, with the format each names.
+const EXTENSIONS: [(&str, &str); 10] = [
+    ("obj", "OBJ"),
+    ("ply", "PLY"),
+    ("off", "OFF"),
+    ("stl", "STL"),
+    ("json", "JSON"),
+    ("csv", "CSV"),
+    ("png", "PNG"),
+    ("svg", "SVG"),
+    ("html", "HTML"),
+    ("htm", "HTML"),
+];
+
+/// The extension of `path`, lower case, when it is one of the formats crestline writes.
+pub fn known_extension(path: &Path) -> Option<String> {
+    let extension = path.extension()?.to_str()?.to_ascii_lowercase();
+    EXTENSIONS
+        .iter()
+        .any(|&(e, _)| e == extension)
+        .then_some(extension)
+}
+
+/// Refuses an output whose extension names another format than the one written (`-o x.csv`
+/// holding PLY, `view -o v.png` holding HTML): `written` says what would be written,
+/// `expected` lists the extensions that fit it, `remedy` says what to do instead.
+/// Standard output, unknown extensions and none are left alone (the format comes from an
+/// option or the command's default there).
+pub fn check_extension(path: &Path, written: &str, expected: &[&str], remedy: &str) -> Result<()> {
+    if is_dash(path) {
+        return Ok(());
+    }
+    let Some(extension) = known_extension(path) else {
+        return Ok(());
+    };
+    if expected.contains(&extension.as_str()) {
+        return Ok(());
+    }
+    let named = EXTENSIONS
+        .iter()
+        .find(|&&(e, _)| e == extension)
+        .map_or("another format", |&(_, name)| name);
+    bail!(
+        "{}: a .{extension} file holds {named}, but {written} would be written into it: \
+         {remedy}",
+        path.display()
+    );
+}
+
 /// True when both paths exist and are the same file.
 fn same_file(a: &Path, b: &Path) -> bool {
     #[cfg(unix)]
@@ -104,7 +153,8 @@ impl PlyEncodingArg {
 #[derive(Debug, Clone, clap::Args)]
 pub struct MeshOutputArgs {
     /// Output mesh, or `-` for standard output; the format follows the extension (.obj,
-    /// .ply, .off, .stl) unless --format is given.
+    /// .ply, .off, .stl) unless --format is given, which then refuses another format's
+    /// extension.
     #[arg(short, long)]
     pub output: PathBuf,
     /// Output format (needed for standard output).
@@ -119,11 +169,21 @@ impl MeshOutputArgs {
     }
 }
 
-/// The format of a mesh written to `path`: `format` when given, else the extension's; for
-/// standard output `format` is needed.
+/// The format of a mesh written to `path`: `format` when given (refusing an extension of
+/// another format), else the extension's; for standard output `format` is needed.
 pub fn mesh_format(path: &Path, format: Option<FormatArg>) -> Result<Format> {
     match format {
-        Some(f) => Ok(f.into()),
+        Some(f) => {
+            let format = Format::from(f);
+            let extension = format.extension();
+            check_extension(
+                path,
+                &format!("{format} (--format {extension})"),
+                &[extension],
+                &format!("give an output ending in .{extension}"),
+            )?;
+            Ok(format)
+        }
         None if is_dash(path) => {
             bail!("writing the mesh to standard output (-o -): give its format with --format")
         }

@@ -141,7 +141,7 @@ pub struct SceneArgs {
     #[arg(long, value_name = "P%|full|MIN,MAX", value_parser = parse_range, allow_hyphen_values = true)]
     pub field_range: Option<FieldRange>,
     /// Line width in pixels [default: 2.5].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub line_width: Option<f64>,
     /// Do not draw ridges (the viewer starts with them off).
     #[arg(long)]

@@ -37,6 +37,8 @@ pub fn run(args: &Args) -> Result<()> {
             bail!("{flag} is for one mesh; it cannot be used when extracting from several");
         }
     }
+    // Values out of range are one error up front, not one per mesh.
+    options_from_args(args)?.validate()?;
     let inputs = expand(&args.meshes)?;
     let folder = match &args.output {
         Some(o) if is_dash(o) => bail!("-o -: a batch writes one file per mesh; give a folder"),

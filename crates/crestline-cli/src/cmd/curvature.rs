@@ -12,7 +12,10 @@ use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
 use crate::input::{OrientedMeshArgs, is_dash};
-use crate::output::{PlyEncodingArg, check_output, display, to_path_or_stdout, to_stdout};
+use crate::output::{
+    PlyEncodingArg, check_extension, check_output, display, known_extension, to_path_or_stdout,
+    to_stdout,
+};
 use crate::progress::{self, note};
 
 /// The estimator.
@@ -45,14 +48,18 @@ pub struct EstimatorArgs {
     pub estimator: Option<EstimatorArg>,
     /// Rings of YBS's cubic fit, 1 to 8 (the paper uses 1 to 4); selects the cubic-fit
     /// estimator unless --estimator says otherwise.
-    #[arg(long, value_parser = super::extract::rings)]
+    #[arg(long, value_parser = super::extract::rings, allow_negative_numbers = true)]
     pub rings: Option<usize>,
-    /// Radius of the jet fit's disc, in sample spacings, > 0 (estimator jet-fit only;
-    /// default 2.5).
-    #[arg(long, value_parser = super::extract::positive)]
+    /// Radius of the jet fit's disc, in sample spacings, above 0 and at most 10 (estimator
+    /// jet-fit only; default 2.5; grown on noisy meshes unless --no-noise-adaptation).
+    #[arg(long, value_parser = super::extract::jet_fit_radius, allow_negative_numbers = true)]
     pub radius: Option<f64>,
     /// Degree of the jet fit, 3 or 4 (estimator jet-fit only; default 4).
-    #[arg(long, value_parser = clap::value_parser!(u8).range(3..=4))]
+    #[arg(
+        long,
+        value_parser = clap::value_parser!(u8).range(3..=4),
+        allow_negative_numbers = true
+    )]
     pub degree: Option<u8>,
     /// Do not grow the jet fit's radius with the measured noise level (estimator jet-fit
     /// only).
@@ -61,7 +68,12 @@ pub struct EstimatorArgs {
     /// Weight of the neighbourhood in the principal directions of the shape operator, >= 0
     /// (estimator shape-operator only; default 0.5; 0 gives the paper's operator, whose
     /// directions are arbitrary on flat faces).
-    #[arg(long, value_name = "LAMBDA", value_parser = super::extract::non_negative)]
+    #[arg(
+        long,
+        value_name = "LAMBDA",
+        value_parser = super::extract::non_negative,
+        allow_negative_numbers = true
+    )]
     pub direction_support: Option<f64>,
 }
 
@@ -142,8 +154,9 @@ pub fn estimator_name(e: Estimator) -> &'static str {
 pub struct Args {
     #[command(flatten)]
     pub input: OrientedMeshArgs,
-    /// Output: a PLY with the mesh and the fields as vertex properties (CSV with `--csv`),
-    /// or `-` for standard output.
+    /// Output: a PLY with the mesh and the fields as vertex properties, or a CSV table when
+    /// it ends in .csv (or with --csv); `-` for standard output (PLY unless --csv). Another
+    /// format's extension (.obj, .png, .ply with --csv) is refused.
     #[arg(short, long)]
     pub output: PathBuf,
     #[command(flatten)]
@@ -151,9 +164,15 @@ pub struct Args {
     /// Sharp creases the estimation does not reach across (each side of a crease gets its
     /// own fit, as in `extract`; estimator jet-fit only): `auto` (default: edges above the gap in the histogram of
     /// dihedral angles; none on scans), `off`, or a dihedral angle in degrees.
-    #[arg(long, value_name = "auto|off|DEGREES", value_parser = super::extract::creases)]
+    #[arg(
+        long,
+        value_name = "auto|off|DEGREES",
+        value_parser = super::extract::creases,
+        allow_negative_numbers = true
+    )]
     pub creases: Option<CreaseAngle>,
-    /// Write CSV (one row per vertex) instead of PLY.
+    /// Write CSV (one row per vertex) instead of PLY, whatever the extension (unless it
+    /// names another format); an output ending in .csv is CSV without it.
     #[arg(long)]
     pub csv: bool,
     /// Also write the mesh saliency (`saliency`) and `curv` (Mao et al.).
@@ -185,6 +204,7 @@ pub fn run(args: Args) -> Result<()> {
     let options = curvature_options(&args)?;
     let estimator = options.estimator;
     check_output(&args.output, &[args.input.path()])?;
+    let csv = writes_csv(&args)?;
     let (prepared, name) = args.input.load_prepared()?;
     let mesh = &prepared.mesh;
     // The papers' estimators read one star or ring and do not split at creases.
@@ -218,7 +238,7 @@ pub fn run(args: Args) -> Result<()> {
         .collect::<Result<Vec<_>>>()?;
     let mesh = prepared.given_mesh();
 
-    if args.csv {
+    if csv {
         let write_csv = |out: &mut dyn Write| -> std::io::Result<()> {
             let header: Vec<&str> = ["x", "y", "z"]
                 .into_iter()
@@ -256,6 +276,28 @@ pub fn run(args: Args) -> Result<()> {
         display(&args.output)
     );
     Ok(())
+}
+
+/// True when the fields are written as CSV: with --csv, or to a file ending in .csv. Refuses
+/// an output whose extension names another format than the one written.
+fn writes_csv(args: &Args) -> Result<bool> {
+    let csv = args.csv || known_extension(&args.output).as_deref() == Some("csv");
+    if csv {
+        check_extension(
+            &args.output,
+            "CSV (--csv)",
+            &["csv"],
+            "give an output ending in .csv (or leave out --csv and write .ply)",
+        )?;
+    } else {
+        check_extension(
+            &args.output,
+            "PLY",
+            &["ply"],
+            "give an output ending in .ply, or in .csv for a CSV table",
+        )?;
+    }
+    Ok(csv)
 }
 
 /// The estimator's options from the arguments; flags of another estimator are errors.

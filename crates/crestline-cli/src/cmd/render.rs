@@ -8,7 +8,7 @@ use clap::ValueEnum;
 use crestline::render::{PictureFormat, render_html, render_png, render_svg, write_picture};
 
 use crate::input::is_dash;
-use crate::output::{display, to_path_or_stdout};
+use crate::output::{check_extension, display, to_path_or_stdout};
 use crate::progress::{self, note};
 use crate::scene::{SceneArgs, WireframeArgs, parse_size, resolve_up};
 
@@ -29,14 +29,15 @@ pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Output picture, or `-` for standard output; the extension chooses the format (.png,
-    /// .svg, or .html for the viewer) unless --format is given.
+    /// .svg, or .html for the viewer) unless --format is given (which then refuses the
+    /// extension of another format).
     #[arg(short, long, value_name = "PICTURE")]
     pub output: PathBuf,
     /// Output format (needed for standard output).
     #[arg(long, value_enum)]
     pub format: Option<PictureFormatArg>,
     /// Image size in pixels, W or WxH [default: 1024x1024].
-    #[arg(long, value_name = "W[xH]", value_parser = parse_size)]
+    #[arg(long, value_name = "W[xH]", value_parser = parse_size, allow_negative_numbers = true)]
     pub size: Option<(u32, u32)>,
     /// Do not draw the colour bar of --field.
     #[arg(long)]
@@ -68,6 +69,20 @@ pub fn run(args: Args) -> Result<()> {
     opts.wireframe = args.wireframe.wireframe;
     opts.validate()?;
     args.scene.check_output(&args.output)?;
+    if let Some(given) = args.format {
+        let extensions = match given {
+            PictureFormatArg::Png => &["png"][..],
+            PictureFormatArg::Svg => &["svg"],
+            PictureFormatArg::Html => &["html", "htm"],
+        };
+        let name = format!("{given:?}").to_ascii_lowercase();
+        check_extension(
+            &args.output,
+            &format!("{} (--format {name})", name.to_ascii_uppercase()),
+            extensions,
+            &format!("give an output ending in .{}", extensions[0]),
+        )?;
+    }
     let scene = args.scene.load()?;
     opts.up = resolve_up(opts.up, &scene.mesh);
     let (mesh, lines, field) = (&scene.mesh, scene.lines.as_ref(), scene.field.as_deref());

@@ -17,17 +17,21 @@ pub struct Args {
     #[command(flatten)]
     pub out: MeshOutputArgs,
     /// Keep this fraction of the triangles, in (0, 1]. Default: 0.1.
-    #[arg(long, conflicts_with = "faces", value_parser = ratio)]
+    #[arg(long, conflicts_with = "faces", value_parser = ratio, allow_negative_numbers = true)]
     pub ratio: Option<f64>,
     /// Keep this many triangles.
-    #[arg(long)]
+    #[arg(
+        long,
+        value_parser = super::extract::whole_number::<usize>,
+        allow_negative_numbers = true
+    )]
     pub faces: Option<usize>,
     /// Influence of the feature lines (eta of eq. 7); 0 is plain QEM and needs no lines.
     /// Default: 1.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub eta: Option<f64>,
     /// Regularisation epsilon of eq. 7. Default: 0.1.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub eps: Option<f64>,
     #[command(flatten)]
     pub lines: LinesArg,

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 
 use crate::input::is_dash;
-use crate::output::{display, to_stdout};
+use crate::output::{check_extension, display, to_stdout};
 use crate::progress::note;
 use crate::scene::{SceneArgs, resolve_up};
 
@@ -15,7 +15,8 @@ use crate::scene::{SceneArgs, resolve_up};
 pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Output HTML file, or `-` for standard output.
+    /// Output HTML file (.html), or `-` for standard output. A picture's extension (.png,
+    /// .svg) is refused: `crestline render` draws pictures.
     #[arg(short, long, value_name = "VIEW.html")]
     pub output: PathBuf,
 }
@@ -25,6 +26,12 @@ pub fn run(args: Args) -> Result<()> {
     let mut opts = args.scene.options();
     opts.validate()?;
     args.scene.check_output(&args.output)?;
+    check_extension(
+        &args.output,
+        "the HTML viewer",
+        &["html", "htm"],
+        "give an output ending in .html (`crestline render -o PICTURE.png` draws a picture)",
+    )?;
     let scene = args.scene.load()?;
     opts.up = resolve_up(opts.up, &scene.mesh);
     let (mesh, lines, field) = (&scene.mesh, scene.lines.as_ref(), scene.field.as_deref());

@@ -163,7 +163,8 @@ fn a_file_that_holds_no_lines_is_an_error_not_no_lines() {
         "{err}"
     );
     // A mesh is not a lines file either, nor is an unknown extension.
-    let err = fails(run(&["view", FANDISK, "--lines", FANDISK, "-o", s(&png)]));
+    let html = dir.path().join("x.html");
+    let err = fails(run(&["view", FANDISK, "--lines", FANDISK, "-o", s(&html)]));
     assert!(err.contains("no polylines"), "{err}");
     let txt = dir.path().join("lines.txt");
     std::fs::write(&txt, "l 1 2\n").unwrap();

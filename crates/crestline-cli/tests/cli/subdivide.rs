@@ -70,3 +70,43 @@ fn refuses_a_bad_corner_angle_and_an_oversized_result() {
     }
     assert!(!output.exists());
 }
+
+#[test]
+fn refuses_levels_beyond_the_face_bound_naming_the_largest_that_fits() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("fine.obj");
+    let o = output.to_str().unwrap();
+    // fandisk, the built-in example: 12946 faces.
+    let fandisk = concat!(env!("CARGO_MANIFEST_DIR"), "/data/fandisk.obj");
+    let run = |extra: &[&str]| {
+        let mut all = vec!["subdivide", fandisk, "-o", o, "-q"];
+        all.extend(extra);
+        crestline(&all)
+    };
+    // A bound of the user's: 12946 · 4² = 207136 faces is too many, one level fits.
+    let out = run(&["--levels", "2", "--max-faces", "100000"]);
+    let err = stderr(&out);
+    assert!(!out.status.success() && !err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("207136 faces")
+            && err.contains("at most 1 level stays under it (51784 faces)"),
+        "{err}"
+    );
+    // The default bound: 8 levels would make 848 million faces (tens of GB), 5 fit.
+    let out = run(&["--levels", "8"]);
+    let err = stderr(&out);
+    assert!(!out.status.success() && !err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("8 levels") && err.contains("848429056 faces"),
+        "{err}"
+    );
+    assert!(
+        err.contains("at most 5 levels") && err.contains("--max-faces"),
+        "{err}"
+    );
+    assert!(!output.exists());
+    // The bound itself is allowed.
+    let out = run(&["--levels", "1", "--max-faces", "51784"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(read_mesh(&output, None).unwrap().num_faces(), 51784);
+}

@@ -316,8 +316,9 @@ impl ExtractOptions {
     /// on a given mesh (the smoothing runs only on noisy meshes by default): a fixed
     /// threshold and a minimum length that are finite and not negative (a knee search's floor
     /// not NaN nor +∞), a fairing tolerance that is finite
-    /// and not negative, a smoothing time step that is positive and finite and a crease angle
-    /// from 0 to π. [`crate::extract()`] checks them first.
+    /// and not negative, a smoothing time step above 0 and at most 1e6 (beyond, one step
+    /// would smooth across any mesh and the solver loses precision) and a crease angle from 0
+    /// to π. [`crate::extract()`] checks them first.
     ///
     /// # Errors
     /// [`Error::InvalidInput`] naming the first value out of range.
@@ -343,10 +344,11 @@ impl ExtractOptions {
                 "of at least 0",
             ),
             (
-                self.smoothing.time_step.is_finite() && self.smoothing.time_step > 0.0,
+                self.smoothing.time_step > 0.0
+                    && self.smoothing.time_step <= MAX_SMOOTHING_TIME_STEP,
                 "smoothing time step",
                 self.smoothing.time_step,
-                "above 0",
+                "above 0 and at most 1e6",
             ),
         ];
         for (fine, what, value, range) in checks {
@@ -367,6 +369,13 @@ impl ExtractOptions {
     }
 }
 
+/// The largest [`ExtremalitySmoothing::time_step`] [`ExtractOptions::validate`] accepts. One
+/// step diffuses over about `sqrt(time_step)` rings: at 1e6 a thousand, beyond the extent of
+/// any mesh, so larger steps only flatten the extremalities further (spot and horse had no
+/// lines left from 1e4 and 1e6) while the implicit system loses the precision its solver
+/// needs (conjugate gradients broke down at 1e15 on both, and 1e300 overflows).
+const MAX_SMOOTHING_TIME_STEP: f64 = 1e6;
+
 impl Default for ExtractOptions {
     fn default() -> Self {
         Self::for_method(Method::Hpw)
@@ -384,11 +393,12 @@ mod tests {
             assert!(ExtractOptions::for_method(method).validate().is_ok());
         }
         type Spoil = fn(&mut ExtractOptions);
-        let bad: [(Spoil, &str); 7] = [
+        let bad: [(Spoil, &str); 8] = [
             (|o| o.min_length = -0.1, "minimum line length"),
             (|o| o.min_length = f64::NAN, "minimum line length"),
             (|o| o.fairing.tolerance = f64::INFINITY, "fairing tolerance"),
             (|o| o.smoothing.time_step = 0.0, "smoothing time step"),
+            (|o| o.smoothing.time_step = 1e9, "smoothing time step"),
             (|o| o.smoothing.crease_angle = 4.0, "crease angle"),
             (
                 |o| o.pipeline.set_threshold(Threshold::Fixed(f64::NAN)),
