@@ -125,10 +125,9 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
         |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     if report.rewound_faces > 0 {
         eprintln!(
-            "{name}: {} wound against their neighbours (in {}); reversed so that normals \
-             agree (--keep-orientation to keep them)",
-            count(report.rewound_faces, "triangle was", "triangles were"),
-            count(report.inconsistent, "component", "components")
+            "{name}: {} wound against their neighbours; reversed so that normals agree \
+             (--keep-orientation to keep them)",
+            count(report.rewound_faces, "triangle was", "triangles were")
         );
     }
     if report.non_orientable > 0 {
