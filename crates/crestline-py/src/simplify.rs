@@ -54,6 +54,8 @@ pub fn simplify<'py>(
     };
     options.eta = eta.unwrap_or(options.eta);
     options.eps = eps.unwrap_or(options.eps);
+    // Before the lines are extracted.
+    options.check_weights().map_err(to_py_err)?;
     let (mesh, _) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
     let extracted;
     let lines = match lines.as_ref() {

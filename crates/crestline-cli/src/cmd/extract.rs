@@ -493,12 +493,9 @@ fn degrees(s: &str) -> Result<f64, String> {
     }
 }
 
-/// The largest `--radius` of the jet fit, in sample spacings: four times the default. A
-/// disc gathers about 3.6 r² vertices and the time grows faster still (horse, 48k vertices:
-/// 1.3 s at 2.5, 41 s at 10, 5 min at 20), while a disc wider than the features blurs them
-/// all; a radius beyond the mesh (`--radius 1e6`) ran for minutes and found no lines. The
-/// noise adaptation still grows the radius given on noisy meshes.
-pub const MAX_JET_FIT_RADIUS: f64 = 10.0;
+/// The largest `--radius` of the jet fit, in sample spacings: the library's
+/// ([`crestline::curvature::jet_fit::MAX_RADIUS`], where the reason is).
+pub const MAX_JET_FIT_RADIUS: f64 = crestline::curvature::jet_fit::MAX_RADIUS;
 
 /// Parses the jet fit's radius in sample spacings, above 0 and at most
 /// [`MAX_JET_FIT_RADIUS`].

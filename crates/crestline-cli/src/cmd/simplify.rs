@@ -59,6 +59,8 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(eps) = args.eps {
         options.eps = eps;
     }
+    // Before the mesh is read and the lines are extracted.
+    options.check_weights()?;
     let (mesh, name) = args.input.load()?;
     let lines = if options.eta == 0.0 && args.lines.path().is_none() {
         FeatureLines::default()

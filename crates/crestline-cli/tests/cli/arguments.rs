@@ -121,3 +121,25 @@ fn a_jet_fit_radius_or_smoothing_step_beyond_any_mesh_is_refused_before_the_work
     ]));
     assert!(out.exists());
 }
+
+#[test]
+fn simplify_weights_out_of_range_are_refused_before_the_mesh_is_read() {
+    // The mesh does not exist: the error about eta comes first, before any extraction.
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.obj");
+    let out = dir.path().join("out.obj");
+    for (flag, value, says) in [
+        ("--eta", "-1", "eta must be"),
+        ("--eps", "0", "eps must be"),
+    ] {
+        let err = fails(crestline(&[
+            "simplify",
+            s(&missing),
+            "-o",
+            s(&out),
+            flag,
+            value,
+        ]));
+        assert!(err.contains(says) && !err.contains("missing.obj"), "{err}");
+    }
+}

@@ -160,6 +160,28 @@ impl SimplifyOptions {
         self
     }
 
+    /// `Ok` when [`SimplifyOptions::eta`] is finite and ≥ 0 and [`SimplifyOptions::eps`]
+    /// finite and > 0: what [`simplify`] checks of the weights first, for callers that do
+    /// other work (extracting the lines) before it.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the value out of range.
+    pub fn check_weights(&self) -> Result<()> {
+        if !(self.eta.is_finite() && self.eta >= 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "eta must be a finite number >= 0, got {}",
+                self.eta
+            )));
+        }
+        if !(self.eps.is_finite() && self.eps > 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "eps must be a finite number > 0, got {}",
+                self.eps
+            )));
+        }
+        Ok(())
+    }
+
     /// Sets [`SimplifyOptions::eta`].
     pub fn with_eta(mut self, eta: f64) -> Self {
         self.eta = eta;
@@ -259,18 +281,7 @@ pub fn simplify(
     lines: &FeatureLines,
     options: &SimplifyOptions,
 ) -> Result<Simplified> {
-    if !(options.eta.is_finite() && options.eta >= 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "eta must be a finite number >= 0, got {}",
-            options.eta
-        )));
-    }
-    if !(options.eps.is_finite() && options.eps > 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "eps must be a finite number > 0, got {}",
-            options.eps
-        )));
-    }
+    options.check_weights()?;
     let weights = if options.eta == 0.0 {
         vec![1.0; mesh.num_faces()]
     } else {
