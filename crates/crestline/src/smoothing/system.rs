@@ -19,7 +19,7 @@ use crate::error::{Error, Result};
 use crate::mesh::Topology;
 
 /// `A = M + t L_σ` for each field, and `M`, ready for [`DiffusionSystem::step`].
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct DiffusionSystem {
     /// Per field: the full symmetric matrix (both triangles, rows sorted in every column).
     matrices: Vec<SparseColMat<u32, f64>>,

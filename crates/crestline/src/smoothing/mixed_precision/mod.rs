@@ -20,10 +20,11 @@
 //! no area meet cotangent weights at their bound (a surface after a few steps of
 //! mean-curvature flow: the cow with `--pre-smooth 3`), rounds of single-precision CG lose
 //! their conjugacy and use up the iterations at a residual just above the tolerance. A step
-//! that fails in mixed precision is taken again from its start values by plain Jacobi CG in
-//! double precision on the same rows ([`ConnectionSystem::double_precision_step`]), which
-//! converges there, and so is every later step of the same system (each attempt would use
-//! up the iterations first); an error is returned only when that fails too.
+//! that fails in mixed precision is taken again, from its best iterate, by the reference
+//! solver of [`super::system`] (double precision, the matrices assembled from these rows;
+//! [`ConnectionSystem::double_precision_step`]), which converges there, and so is every later
+//! step of the same system (each attempt would use up the iterations first); an error is
+//! returned only when that fails too.
 //!
 //! Chunks of fixed size are summed in order, so results do not depend on the thread count,
 //! and flipping a field's sign at a vertex with the σ of its edges flips the iterates there
@@ -31,7 +32,7 @@
 
 use rayon::prelude::*;
 
-use super::system::check_system;
+use super::system::{DiffusionSystem, check_system, jacobi_cg};
 use crate::error::{Error, Result};
 use crate::mesh::Topology;
 use crate::slices::{prefix_sums, split_rows};
@@ -120,9 +121,9 @@ pub struct ConnectionSystem<'m> {
     time: f64,
     fields: usize,
     options: ConjugateGradientOptions,
-    /// Set when a step failed in mixed precision: every later step of this system is taken
-    /// in double precision ([`ConnectionSystem::double_precision_step`]).
-    single_precision_failed: std::sync::OnceLock<()>,
+    /// Set when a step failed in mixed precision: the system for the reference solver, which
+    /// takes every later step ([`ConnectionSystem::double_precision_step`]).
+    reference: std::sync::OnceLock<DiffusionSystem>,
 }
 
 /// The two precisions the solvers compute in.
@@ -235,7 +236,7 @@ impl<'m> ConnectionSystem<'m> {
             time,
             fields,
             options,
-            single_precision_failed: std::sync::OnceLock::new(),
+            reference: std::sync::OnceLock::new(),
         };
         system.fill(&weights, &mass, time);
         Ok(system)
@@ -250,7 +251,7 @@ impl<'m> ConnectionSystem<'m> {
         let weights = single_precision(self.topology, weights, &mass, time)?;
         self.fill(&weights, &mass, time);
         // A new system: single precision may do again.
-        self.single_precision_failed = std::sync::OnceLock::new();
+        self.reference = std::sync::OnceLock::new();
         Ok(())
     }
 
@@ -472,7 +473,7 @@ impl<'m> ConnectionSystem<'m> {
         };
         let mut iterations = 0;
         for _ in 0..steps {
-            if self.single_precision_failed.get().is_some() {
+            if self.reference.get().is_some() {
                 iterations += self.double_precision_step(x, None, tolerance)?;
                 continue;
             }
@@ -480,10 +481,9 @@ impl<'m> ConnectionSystem<'m> {
             match self.jacobi_step(x, &mut work, tolerance) {
                 Ok(taken) => iterations += taken,
                 Err(single) => {
-                    // Later steps and solves go straight to double precision: this system is
-                    // beyond single precision, and each attempt would use up the iterations.
-                    let _ = self.single_precision_failed.set(());
-                    // `x` holds the start values x₀ (no round ended) or the best iterate,
+                    // Later steps and solves go straight to double precision (the reference
+                    // system is kept): this system is beyond single precision, and each
+                    // attempt would use up the iterations. `x` holds the start values x₀ (no round ended) or the best iterate,
                     // with b = M x₀ stored.
                     let rhs = std::mem::take(&mut work.rhs);
                     let b = |f: usize, v: usize| rhs[v][f];
@@ -498,113 +498,65 @@ impl<'m> ConnectionSystem<'m> {
         Ok(iterations)
     }
 
-    /// One step by plain Jacobi-preconditioned CG in double precision on the same rows, field
-    /// by field, solving `A x = b` with `b(f, v)` given, or `b = M x` for the start values in
-    /// `x` (`None`): the fallback of a step that mixed precision cannot finish (see the module
-    /// docs). It starts from `x`, or from zero when that is closer, as
-    /// [`ConnectionSystem::jacobi_step`] does, and stops on the same test, checked on the
-    /// residual recomputed from the iterate (CG's updated residual drifts from it on the
-    /// ill-conditioned systems this runs on; it restarts from the recomputed one). Returns
-    /// the iterations of the slowest field.
+    /// One step by the reference solver ([`super::system`]: Jacobi CG in double precision on
+    /// the assembled matrix of each field), solving `A x = b` from `x` with `b(f, v)` given,
+    /// or `b = M x` for the start values in `x` (`None`): the fallback of a step that mixed
+    /// precision cannot finish (see the module docs). The matrices are assembled from these
+    /// rows once, at the first fallback. Returns the iterations of the slowest field.
     fn double_precision_step(
         &self,
         x: &mut [&mut [f64]],
         rhs: Option<&(dyn Fn(usize, usize) -> f64 + Sync)>,
         tolerance: f64,
     ) -> Result<usize> {
-        let n = self.diagonal.len();
-        let chunked_sum = |terms: &(dyn Fn(usize) -> f64 + Sync)| -> f64 {
-            let partials: Vec<f64> = (0..n.div_ceil(CHUNK))
-                .into_par_iter()
-                .map(|c| (c * CHUNK..((c + 1) * CHUNK).min(n)).map(terms).sum())
-                .collect();
-            partials.iter().sum()
+        let plain = self.reference_system()?;
+        // `tolerance` is the step's, already no tighter than the solver's.
+        let options = ConjugateGradientOptions {
+            tolerance,
+            ..self.options
         };
+        let n = self.diagonal.len();
         let mut slowest = 0;
-        let (mut r, mut p, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         for (f, u) in x.iter_mut().enumerate() {
-            let sign = |bits: u32| if (bits >> f) & 1 == 1 { -1.0 } else { 1.0 };
-            // out = A p, A = D − t W_σ.
-            let multiply = |p: &[f64], out: &mut [f64]| {
-                out.par_iter_mut()
-                    .with_min_len(CHUNK)
-                    .enumerate()
-                    .for_each(|(v, out)| {
-                        let sum: f64 = self.row(v).map(|(q, w, bits)| sign(bits) * w * p[q]).sum();
-                        *out = self.diagonal[v] * p[v] - self.time * sum;
-                    });
-            };
             let b: Vec<f64> = match rhs {
-                Some(rhs) => (0..n)
-                    .into_par_iter()
-                    .with_min_len(CHUNK)
-                    .map(|v| rhs(f, v))
-                    .collect(),
-                None => (0..n)
-                    .into_par_iter()
-                    .with_min_len(CHUNK)
-                    .map(|v| self.mass(v) * u[v])
-                    .collect(),
+                Some(rhs) => (0..n).map(|v| rhs(f, v)).collect(),
+                None => (0..n).map(|v| self.mass(v) * u[v]).collect(),
             };
-            let rhs_norm2 = chunked_sum(&|v| b[v] * b[v] / self.diagonal[v]);
-            // r = b − A u; returns r·D⁻¹r.
-            let residual = |u: &[f64], r: &mut [f64], q: &mut [f64]| -> f64 {
-                multiply(u, q);
-                r.par_iter_mut()
-                    .with_min_len(CHUNK)
-                    .enumerate()
-                    .for_each(|(v, r)| *r = b[v] - q[v]);
-                chunked_sum(&|v| r[v] * r[v] / self.diagonal[v])
-            };
-            let mut rz = residual(u, &mut r, &mut q);
-            if !(rhs_norm2.is_finite() && rz.is_finite()) {
+            if !b.iter().all(|b| b.is_finite()) {
                 return Err(not_finite());
             }
-            if rz > rhs_norm2 {
-                u.fill(0.0);
-                r.copy_from_slice(&b);
-                rz = rhs_norm2;
-            }
-            let threshold = tolerance * tolerance * rhs_norm2;
-            let mut iterations = 0;
-            while rz > threshold {
-                // A (re)start from the residual in `r`.
-                p.par_iter_mut()
-                    .with_min_len(CHUNK)
-                    .enumerate()
-                    .for_each(|(v, p)| *p = r[v] / self.diagonal[v]);
-                while rz > threshold {
-                    if iterations == self.options.max_iterations {
-                        let relative = (rz / rhs_norm2).sqrt();
-                        return Err(self.not_converged(iterations, relative, tolerance));
-                    }
-                    iterations += 1;
-                    multiply(&p, &mut q);
-                    let alpha = Self::step_length(rz, chunked_sum(&|v| p[v] * q[v]), iterations)?;
-                    u.par_iter_mut()
-                        .zip(r.par_iter_mut())
-                        .with_min_len(CHUNK)
-                        .enumerate()
-                        .for_each(|(v, (u, r))| {
-                            *u += alpha * p[v];
-                            *r -= alpha * q[v];
-                        });
-                    let next = chunked_sum(&|v| r[v] * r[v] / self.diagonal[v]);
-                    let beta = next / rz;
-                    rz = next;
-                    p.par_iter_mut()
-                        .with_min_len(CHUNK)
-                        .enumerate()
-                        .for_each(|(v, p)| *p = r[v] / self.diagonal[v] + beta * *p);
-                }
-                rz = residual(u, &mut r, &mut q);
-                if !rz.is_finite() {
-                    return Err(not_finite());
-                }
-            }
-            slowest = slowest.max(iterations);
+            slowest = slowest.max(jacobi_cg(plain.matrix(f), &b, u, &options)?);
         }
         Ok(slowest)
+    }
+
+    /// The same system for the reference solver, assembled from the rows (weights, signs and
+    /// the mass recovered from the diagonal) the first time it is asked for.
+    fn reference_system(&self) -> Result<&DiffusionSystem> {
+        if let Some(plain) = self.reference.get() {
+            return Ok(plain);
+        }
+        let topology = self.topology;
+        let m = topology.num_edges();
+        let mut weights = vec![0.0; m];
+        let mut flips = vec![vec![false; m]; if self.flip_bits > 0 { self.fields } else { 0 }];
+        for v in 0..self.diagonal.len() {
+            for (&e, (_, w, bits)) in topology.vertex_edges(v as u32).iter().zip(self.row(v)) {
+                weights[e as usize] = w;
+                for (f, flip) in flips.iter_mut().enumerate() {
+                    flip[e as usize] = (bits >> f) & 1 == 1;
+                }
+            }
+        }
+        let mass = (0..self.diagonal.len()).map(|v| self.mass(v)).collect();
+        let signs: Vec<Option<&[bool]>> = if flips.is_empty() {
+            vec![None; self.fields]
+        } else {
+            flips.iter().map(|f| Some(f.as_slice())).collect()
+        };
+        let plain =
+            DiffusionSystem::assemble(topology, &weights, mass, self.time, &signs, self.options)?;
+        Ok(self.reference.get_or_init(|| plain))
     }
 
     /// One step of [`ConnectionSystem::solve_jacobi`]; returns its iterations.
