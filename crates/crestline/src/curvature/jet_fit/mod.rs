@@ -717,10 +717,12 @@ impl Context<'_> {
         if topo.vertex_faces(v).is_empty() || radius.is_nan() || radius <= 0.0 {
             return fallback(Vec3::zeros());
         }
-        let r = self.grow_disc(v, radius, s);
-        let mut on_triangles = self.needs_triangle_samples(v, r, s);
+        let grown = self.grow_disc(v, radius, s);
+        let mut on_triangles = self.needs_triangle_samples(v, grown, s);
         let p = self.mesh.position(v);
-        let Some((mut n0, mut first)) = self.first_fit(v, p, r, on_triangles, s) else {
+        let Some((mut n0, mut first, mut r)) =
+            self.first_fit(v, p, [radius, grown], on_triangles, s)
+        else {
             return fallback(self.normals[v as usize]);
         };
         // Vertices on too few rows for the polynomial across them (triangles several times
@@ -731,10 +733,10 @@ impl Context<'_> {
                 .is_none_or(|fit| fit.conditioning < ILL_POSED)
         {
             on_triangles = true;
-            let Some(refit) = self.first_fit(v, p, r, on_triangles, s) else {
+            let Some(refit) = self.first_fit(v, p, [radius, grown], on_triangles, s) else {
                 return fallback(self.normals[v as usize]);
             };
-            (n0, first) = refit;
+            (n0, first, r) = refit;
         }
         let Some(first) = first else {
             return fallback(n0);
@@ -788,25 +790,26 @@ impl Context<'_> {
         r
     }
 
-    /// Samples the disc (at its vertices, or on its triangles) and fits it in the frame of
-    /// the samples' kernel-weighted area normal: that normal and the fit (`None` when it
-    /// cannot be solved); `None` when the normal vanishes.
+    /// Samples the disc (at its vertices, with the radius `grown` of [`Self::grow_disc`], or
+    /// on its triangles, [`Self::sample_triangle_disc`]) and fits it in the frame of the
+    /// samples' kernel-weighted area normal: that normal, the fit (`None` when it cannot be
+    /// solved) and the radius sampled; `None` when the normal vanishes.
     fn first_fit(
         &self,
         v: u32,
         p: Vec3,
-        r: f64,
+        [radius, grown]: [f64; 2],
         on_triangles: bool,
         s: &mut Scratch,
-    ) -> Option<(Vec3, Option<Fit>)> {
-        let normal = if on_triangles {
-            self.sample_triangles(v, r, s)
+    ) -> Option<(Vec3, Option<Fit>, f64)> {
+        let (normal, r) = if on_triangles {
+            self.sample_triangle_disc(v, radius, grown, s)
         } else {
-            self.vertex_samples(p, r, s)
+            (self.vertex_samples(p, grown, s), grown)
         };
         let n0 = normal.try_normalize(1e-300)?;
         // Only its coefficients are read: no residual.
-        Some((n0, self.fit_in_frame(p, n0, r, s, None, false)))
+        Some((n0, self.fit_in_frame(p, n0, r, s, None, false), r))
     }
 
     /// Puts the disc's vertices into `s.points` and returns the first normal: the
@@ -1011,7 +1014,12 @@ mod tests {
                 c.k_max[v]
             );
             assert!(c.k_min[v].abs() < 0.03, "k_min {} at {v}", c.k_min[v]);
-            assert!(c.e_max[v].abs() < 0.1 && c.e_min[v].abs() < 0.1, "e at {v}");
+            assert!(
+                c.e_max[v].abs() < 0.1 && c.e_min[v].abs() < 0.1,
+                "e {} {} at {v}",
+                c.e_max[v],
+                c.e_min[v]
+            );
         }
     }
 

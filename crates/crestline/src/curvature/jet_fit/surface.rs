@@ -25,11 +25,15 @@
 //!
 //! **How.** The triangles are found breadth-first from the centre's triangles across edges
 //! that are not creases, keeping those that come within the radius of the centre. Each is
-//! cut into m² congruent triangles (m = ⌈4 L / r⌉ for its longest edge L, at most 64), and
-//! each piece is one sample at its centroid with its area as weight and the linear
-//! interpolation of its corners' simulated noise. Only the pieces near the disc are looked
-//! at ([`cut_triangle`]): the 4096 pieces of each of the thousands of slivers of a fan that
-//! reach a disc were all tested before (a capped cylinder of 2048 segments took 47 s, 9 now).
+//! cut by a grid of square cells at most r/8 wide ([`PIECES_PER_RADIUS`]), laid along its
+//! longest side and fitted to its length and height; each cell's part of the triangle is one
+//! sample at its centroid, with its area as weight and the linear interpolation of the
+//! corners' simulated noise there. Only the cells that can reach the disc are cut
+//! ([`cut_triangle`]). A sliver of a fan, narrower than a cell, is cut across only: a disc
+//! takes about 16 pieces of it whatever its length, where the regular subdivision into m²
+//! congruent triangles (m = ⌈4 L / r⌉, used before) left 16 L / r pieces of it in the disc,
+//! and as many slivers cross a disc on a fan as its rim has segments near it: the
+//! triangles' number squared in all (a capped cylinder of 2048 segments took 9 s).
 
 #[cfg(doc)]
 use super::JetFitOptions;
@@ -45,11 +49,8 @@ use crate::spatial::closest_point_on_triangle;
 /// strip 0.0001, a cylinder cut into triangles 7 times longer than wide 0.005.
 const STRIP_RATIO: f64 = 0.02;
 
-/// Pieces per triangle side per radius.
-const PIECES_PER_RADIUS: f64 = 4.0;
-
-/// At most this many pieces along a triangle's side.
-const MAX_PIECES: usize = 64;
+/// Cells per radius: the cells that cut a triangle are at most `r / PIECES_PER_RADIUS` wide.
+const PIECES_PER_RADIUS: f64 = 8.0;
 
 /// Whether the weighted `points` (tangent-plane coordinates, weight) lie along a strip: the
 /// smaller eigenvalue of their weighted second moment is below [`STRIP_RATIO`] times the
@@ -98,9 +99,38 @@ impl Context<'_> {
         }))
     }
 
+    /// Samples the disc of radius `radius` on the triangles ([`Self::sample_triangles`]),
+    /// grown by half, up to the radius `grown` its vertex disc grew to, while the area of its
+    /// samples is below that of [`JetFitOptions::min_points`] vertices of a regular
+    /// triangulation at the mesh's sample spacing h (`√3/2 h²` each). A disc at a boundary
+    /// grows as its vertex disc did; a disc on a fan, whose vertices are all on its rim, no
+    /// longer grows for want of vertices where its triangles cover enough (a rim vertex of
+    /// a capped cylinder grew to 7.6 times the radius, over the whole cap). Returns the
+    /// samples' kernel-weighted area normal and the radius sampled.
+    pub(super) fn sample_triangle_disc(
+        &self,
+        v: u32,
+        radius: f64,
+        grown: f64,
+        s: &mut Scratch,
+    ) -> (Vec3, f64) {
+        let wanted =
+            self.options.min_points as f64 * 3f64.sqrt() / 2.0 * self.spacing * self.spacing;
+        let mut r = radius;
+        loop {
+            let normal = self.sample_triangles(v, r, s);
+            let area: f64 = s.points.iter().map(|q| q.area).sum();
+            // (The vertex disc's radii are `radius` times powers of 1.5, as these.)
+            if area >= wanted || r * 1.25 > grown || r.is_nan() {
+                return (normal, r);
+            }
+            r = (r * 1.5).min(grown);
+        }
+    }
+
     /// Samples the surface within `r` of vertex `v` on its triangles into `s.points`, and
     /// returns the samples' kernel-weighted area normal.
-    pub(super) fn sample_triangles(&self, v: u32, r: f64, s: &mut Scratch) -> Vec3 {
+    fn sample_triangles(&self, v: u32, r: f64, s: &mut Scratch) -> Vec3 {
         let topo = self.mesh.topology();
         let p = self.mesh.position(v);
         let r2 = r * r;
@@ -151,12 +181,11 @@ impl Context<'_> {
 /// corners) whose centroids lie within `r` of `p` (module docs, *How*), and returns their
 /// kernel-weighted area normal.
 ///
-/// The pieces are those of the regular subdivision into m² triangles, at their centroids
-/// `a + u (b − a) + w (c − a)`: in row i (u = (i + o) / m, o = 1/3 for the upright pieces
-/// and 2/3 for the inverted ones) the centroids lie on a line along `c − a`, and only the
-/// stretch of it within the ball is visited. The pieces and their order are those of all
-/// m² tested in turn, at a cost of about m plus the pieces kept: a disc on a fan of
-/// thousands of slivers used to test millions.
+/// In the triangle's plane, with its longest side from (0, 0) to (L, 0) and its third corner
+/// at (cx, cy), cy > 0 (0 ≤ cx ≤ L: the angles at the longest side are acute), the cells are
+/// `[i hx, (i + 1) hx] × [j hy, (j + 1) hy]`, hx = L / ⌈L / h⌉ and hy = cy / ⌈cy / h⌉ for
+/// h = r / 8; a cell's piece is the cell clipped by the two other sides. Only the rows and
+/// columns within reach of the disc are visited.
 fn cut_triangle(
     corners: [Vec3; 3],
     noise: [f64; 3],
@@ -164,69 +193,136 @@ fn cut_triangle(
     r: f64,
     points: &mut Vec<SurfacePoint>,
 ) -> Vec3 {
-    let r2 = r * r;
-    let [a, b, c] = corners;
-    let area_vector = (b - a).cross(&(c - a)) / 2.0;
-    let longest = [(b - a), (c - b), (a - c)]
-        .iter()
-        .map(|d| d.norm())
-        .fold(0.0, f64::max);
-    let m = ((PIECES_PER_RADIUS * longest / r).ceil() as usize).clamp(1, MAX_PIECES);
-    let piece = area_vector.norm() / (m * m) as f64;
+    let sides = [
+        corners[1] - corners[0],
+        corners[2] - corners[1],
+        corners[0] - corners[2],
+    ];
+    let lengths = sides.map(|side| side.norm());
+    let k = (0..3).fold(0, |k, i| if lengths[i] > lengths[k] { i } else { k });
+    // The longest side from a to b.
+    let (a, b, c) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
+    let noise = [noise[k], noise[(k + 1) % 3], noise[(k + 2) % 3]];
+    let length = lengths[k];
+    let along = (b - a) / length;
+    let across = (c - a) - along * (c - a).dot(&along);
+    let height = across.norm();
+    let area = length * height / 2.0;
     // Pieces without area weigh nothing in a fit (`SurfacePoint::sample`).
-    if piece.is_nan() || piece <= 0.0 {
+    if area.is_nan() || area <= 0.0 || area.is_infinite() {
         return Vec3::zeros();
     }
-    let unit = area_vector.try_normalize(0.0).unwrap_or_else(Vec3::zeros);
-    let inv = 1.0 / m as f64;
-    let along = c - a;
-    let along2 = along.norm_squared();
-    let mut normal = Vec3::zeros();
-    for i in 0..m {
-        // The pieces j of row i whose centroids can be within r: w = (j + o) / m within
-        // `reach` of the foot of p on the row's line, for either offset.
-        let rows = m - i;
-        let mut columns = rows..0;
-        for o in [1.0 / 3.0, 2.0 / 3.0] {
-            let start = a + (b - a) * ((i as f64 + o) * inv);
-            let to_p = p - start;
-            // (The triangle has area: c − a is not zero.)
-            let foot = to_p.dot(&along) / along2;
-            let gap2 = (to_p - along * foot).norm_squared();
-            if gap2.is_nan() || gap2 >= r2 || !foot.is_finite() {
+    let across = across / height;
+    let unit = along.cross(&across);
+    let (cx, cy) = ((c - a).dot(&along), height);
+    // The disc in the plane: centre (px, py), radius `reach`.
+    let to_p = p - a;
+    let (px, py, pz) = (to_p.dot(&along), to_p.dot(&across), to_p.dot(&unit));
+    let reach2 = r * r - pz * pz;
+    if reach2.is_nan() || reach2 <= 0.0 {
+        return Vec3::zeros();
+    }
+    let reach = reach2.sqrt();
+    let h = r / PIECES_PER_RADIUS;
+    let (columns, rows) = ((length / h).ceil().max(1.0), (cy / h).ceil().max(1.0));
+    let (hx, hy) = (length / columns, cy / rows);
+    // Cells that can hold a point within `reach` of (px, py), from `low` to `high` (not
+    // included) of `count`: those overlapping [centre − reach, centre + reach].
+    let span = |centre: f64, step: f64, count: f64| {
+        let low = ((centre - reach) / step).floor().clamp(0.0, count);
+        let high = ((centre + reach) / step).floor().clamp(-1.0, count - 1.0) + 1.0;
+        low as usize..high.max(low) as usize
+    };
+    let mut weight = Vec3::zeros();
+    for j in span(py, hy, rows) {
+        let (y0, y1) = (j as f64 * hy, (j + 1) as f64 * hy);
+        // The triangle between y0 and y1 lies within x from cx y0 / cy to
+        // L − (L − cx) y0 / cy.
+        let (left, right) = (cx * y0 / cy, length - (length - cx) * y0 / cy);
+        let near = span(px, hx, columns);
+        let first = near.start.max((left / hx).floor() as usize);
+        let last = near.end.min(((right / hx).ceil() as usize).max(1));
+        for i in first..last {
+            let (x0, x1) = (i as f64 * hx, (i + 1) as f64 * hx);
+            let Some((piece, [x, y])) = clip_cell([x0, x1], [y0, y1], length, [cx, cy]) else {
+                continue;
+            };
+            let (dx, dy) = (x - px, y - py);
+            let d2 = (dx * dx + dy * dy + pz * pz) / (r * r);
+            if d2 >= 1.0 {
                 continue;
             }
-            let reach = ((r2 - gap2) / along2).sqrt();
-            // (j + o) / m in [foot − reach, foot + reach], with a margin of one piece.
-            let low = ((foot - reach) * m as f64 - o).floor() - 1.0;
-            let high = ((foot + reach) * m as f64 - o).ceil() + 1.0;
-            let low = low.clamp(0.0, rows as f64) as usize;
-            let high = (high.max(0.0) as usize).min(rows - 1) + 1;
-            columns = columns.start.min(low)..columns.end.max(high);
-        }
-        for j in columns {
-            let offsets: &[f64] = if i + j + 1 < m {
-                &[1.0 / 3.0, 2.0 / 3.0]
-            } else {
-                &[1.0 / 3.0]
-            };
-            for &o in offsets {
-                let (u, w) = ((i as f64 + o) * inv, (j as f64 + o) * inv);
-                let x = a + (b - a) * u + along * w;
-                let d2 = (x - p).norm_squared() / r2;
-                if d2 >= 1.0 {
-                    continue;
-                }
-                normal += unit * (piece * kernel(d2));
-                points.push(SurfacePoint {
-                    position: x,
-                    area: piece,
-                    noise: (1.0 - u - w) * noise[0] + u * noise[1] + w * noise[2],
-                });
-            }
+            weight += unit * (piece * kernel(d2));
+            // Barycentric coordinates of (x, y): (x, y) = u (L, 0) + w (cx, cy).
+            let w = y / cy;
+            let u = (x - w * cx) / length;
+            points.push(SurfacePoint {
+                position: a + along * x + across * y,
+                area: piece,
+                noise: (1.0 - u - w) * noise[0] + u * noise[1] + w * noise[2],
+            });
         }
     }
-    normal
+    weight
+}
+
+/// The area and centroid of the cell `[x0, x1] × [y0, y1]` (y0 ≥ 0) clipped by the triangle
+/// (0, 0), (L, 0), (cx, cy); `None` if nothing of it is left.
+fn clip_cell(
+    [x0, x1]: [f64; 2],
+    [y0, y1]: [f64; 2],
+    length: f64,
+    [cx, cy]: [f64; 2],
+) -> Option<(f64, [f64; 2])> {
+    let mut polygon = [[0.0f64; 2]; 8];
+    polygon[..4].copy_from_slice(&[[x0, y0], [x1, y0], [x1, y1], [x0, y1]]);
+    let mut count = 4;
+    // The sides (L, 0) → (cx, cy) and (cx, cy) → (0, 0), counter-clockwise: inside is to
+    // their left (the side (0, 0) → (L, 0) is y ≥ 0, which every cell keeps).
+    for (start, end) in [([length, 0.0], [cx, cy]), ([cx, cy], [0.0, 0.0])] {
+        let side = |q: [f64; 2]| {
+            (end[0] - start[0]) * (q[1] - start[1]) - (end[1] - start[1]) * (q[0] - start[0])
+        };
+        let mut clipped = [[0.0f64; 2]; 8];
+        let mut kept = 0;
+        for k in 0..count {
+            let (q, next) = (polygon[k], polygon[(k + 1) % count]);
+            let (sq, sn) = (side(q), side(next));
+            if sq >= 0.0 {
+                clipped[kept] = q;
+                kept += 1;
+            }
+            if (sq >= 0.0) != (sn >= 0.0) {
+                let t = sq / (sq - sn);
+                clipped[kept] = [q[0] + t * (next[0] - q[0]), q[1] + t * (next[1] - q[1])];
+                kept += 1;
+            }
+        }
+        polygon = clipped;
+        count = kept;
+        if count < 3 {
+            return None;
+        }
+    }
+    // The shoelace formula, about the first corner (for rounding).
+    let origin = polygon[0];
+    let (mut area2, mut mx, mut my) = (0.0, 0.0, 0.0);
+    for k in 1..count - 1 {
+        let (q, next) = (polygon[k], polygon[k + 1]);
+        let (qx, qy) = (q[0] - origin[0], q[1] - origin[1]);
+        let (nx, ny) = (next[0] - origin[0], next[1] - origin[1]);
+        let cross = qx * ny - nx * qy;
+        area2 += cross;
+        mx += cross * (qx + nx);
+        my += cross * (qy + ny);
+    }
+    (area2 > 0.0).then(|| {
+        let centroid = [
+            origin[0] + mx / (3.0 * area2),
+            origin[1] + my / (3.0 * area2),
+        ];
+        (area2 / 2.0, centroid)
+    })
 }
 
 /// A point the fit samples: a vertex with its barycentric area, or a piece of a triangle.
@@ -258,44 +354,46 @@ impl SurfacePoint {
 mod tests {
     use super::*;
 
-    /// [`cut_triangle`] as it was written first: every one of the m² pieces tested.
-    fn every_piece(corners: [Vec3; 3], p: Vec3, r: f64) -> Vec<[f64; 4]> {
-        let [a, b, c] = corners;
-        let longest = [(b - a), (c - b), (a - c)]
-            .iter()
-            .map(|d| d.norm())
-            .fold(0.0, f64::max);
-        let m = ((PIECES_PER_RADIUS * longest / r).ceil() as usize).clamp(1, MAX_PIECES);
-        let inv = 1.0 / m as f64;
-        let mut kept = Vec::new();
-        for i in 0..m {
-            for j in 0..m - i {
-                let offsets: &[f64] = if i + j + 1 < m {
-                    &[1.0 / 3.0, 2.0 / 3.0]
-                } else {
-                    &[1.0 / 3.0]
-                };
-                for &o in offsets {
-                    let (u, w) = ((i as f64 + o) * inv, (j as f64 + o) * inv);
-                    let x = a + (b - a) * u + (c - a) * w;
-                    if (x - p).norm_squared() / (r * r) < 1.0 {
-                        kept.push([x.x, x.y, x.z, u]);
-                    }
+    /// Every piece of [`cut_triangle`]'s grid with none skipped (as positions and areas),
+    /// those far from the disc included.
+    fn every_piece(corners: [Vec3; 3], r: f64) -> Vec<(Vec3, f64)> {
+        let lengths = [0, 1, 2].map(|k| (corners[(k + 1) % 3] - corners[k]).norm());
+        let k = (0..3).fold(0, |k, i| if lengths[i] > lengths[k] { i } else { k });
+        let (a, b, c) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
+        let length = lengths[k];
+        let along = (b - a) / length;
+        let across = (c - a) - along * (c - a).dot(&along);
+        let (cx, cy) = ((c - a).dot(&along), across.norm());
+        let across = across / cy;
+        let h = r / PIECES_PER_RADIUS;
+        let (columns, rows) = ((length / h).ceil().max(1.0), (cy / h).ceil().max(1.0));
+        let (hx, hy) = (length / columns, cy / rows);
+        let mut pieces = Vec::new();
+        for j in 0..rows as usize {
+            for i in 0..columns as usize {
+                let x = [i as f64 * hx, (i + 1) as f64 * hx];
+                let y = [j as f64 * hy, (j + 1) as f64 * hy];
+                if let Some((area, [x, y])) = clip_cell(x, y, length, [cx, cy]) {
+                    pieces.push((a + along * x + across * y, area));
                 }
             }
         }
-        kept
+        pieces
     }
 
-    #[test]
-    fn only_the_pieces_near_the_disc_are_visited_and_none_is_missed() {
+    fn random_numbers() -> impl FnMut() -> f64 {
         let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut uniform = move || {
+        move || {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        }
+    }
+
+    #[test]
+    fn only_the_pieces_near_the_disc_are_visited_and_none_is_missed() {
+        let mut uniform = random_numbers();
         for trial in 0..400 {
             let mut numbers = [0.0; 16];
             numbers.iter_mut().for_each(|x| *x = uniform());
@@ -315,13 +413,78 @@ mod tests {
             let p = a + (b - a) * numbers[11] + (c - a) * (0.5 * numbers[12]) + point(13, r);
             let mut points = Vec::new();
             cut_triangle([a, b, c], [0.0; 3], p, r, &mut points);
-            let visited: Vec<[f64; 3]> = points.iter().map(|q| q.position.into()).collect();
-            let all: Vec<[f64; 3]> = every_piece([a, b, c], p, r)
-                .iter()
-                .map(|x| [x[0], x[1], x[2]])
-                .collect();
+            let visited: Vec<(Vec3, f64)> = points.iter().map(|q| (q.position, q.area)).collect();
+            let mut all = every_piece([a, b, c], r);
+            // The pieces cover the triangle: their areas and first moments add up to its.
+            let area = (b - a).cross(&(c - a)).norm() / 2.0;
+            let total: f64 = all.iter().map(|(_, area)| area).sum();
+            let moment: Vec3 = all.iter().map(|(x, area)| x * *area).sum();
+            assert!((total - area).abs() <= 1e-9 * area, "trial {trial}");
+            let centroid = (a + b + c) / 3.0;
+            let size = (b - a).norm() + (c - a).norm();
+            assert!(
+                (moment / total - centroid).norm() <= 1e-9 * size,
+                "trial {trial}"
+            );
+            all.retain(|(x, _)| (x - p).norm_squared() < r * r);
             assert_eq!(visited, all, "trial {trial}");
         }
+    }
+
+    #[test]
+    fn pieces_are_small_and_carry_the_noise_of_their_place() {
+        let (a, b, c) = (
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(3.0, 0.2, 0.0),
+            Vec3::new(0.5, 2.0, 0.1),
+        );
+        let noise = [1.0, -2.0, 4.0];
+        let (p, r) = (Vec3::new(1.0, 0.7, 0.0), 1.2);
+        let mut points = Vec::new();
+        let weight = cut_triangle([a, b, c], noise, p, r, &mut points);
+        assert!(points.len() > 20);
+        let mut expected = Vec3::zeros();
+        let n = (b - a).cross(&(c - a));
+        let unit = n.normalize();
+        for q in &points {
+            // Barycentric coordinates of the centroid: the noise is their interpolation.
+            let (v0, v1, v2) = (b - a, c - a, q.position - a);
+            let (d00, d01, d11) = (v0.dot(&v0), v0.dot(&v1), v1.dot(&v1));
+            let (d20, d21) = (v2.dot(&v0), v2.dot(&v1));
+            let det = d00 * d11 - d01 * d01;
+            let u = (d11 * d20 - d01 * d21) / det;
+            let w = (d00 * d21 - d01 * d20) / det;
+            let interpolated = (1.0 - u - w) * noise[0] + u * noise[1] + w * noise[2];
+            assert!((q.noise - interpolated).abs() < 1e-12);
+            let d2 = (q.position - p).norm_squared() / (r * r);
+            assert!(d2 < 1.0);
+            expected += unit * (q.area * kernel(d2));
+        }
+        assert!((weight - expected).norm() < 1e-12 * expected.norm());
+        // Every piece lies in a cell at most r/8 wide.
+        let side = r / PIECES_PER_RADIUS;
+        for q in &points {
+            assert!(q.area <= side * side * (1.0 + 1e-12));
+        }
+    }
+
+    #[test]
+    fn a_sliver_of_any_length_gives_a_disc_a_few_pieces() {
+        // A sliver of a fan, 0.001 wide, crossing a disc of radius 1 at its middle: the
+        // pieces in the disc do not grow with its length (the regular subdivision into m²
+        // triangles gave 16 L / r of them): one row of cells r/8 long across the disc.
+        let mut counts = Vec::new();
+        for length in [10.0, 100.0, 1000.0, 10000.0] {
+            let (a, b, c) = (
+                Vec3::new(-length / 2.0, 0.0, 0.0),
+                Vec3::new(length / 2.0, 0.0, 0.0),
+                Vec3::new(length / 2.0, 0.001, 0.0),
+            );
+            let mut points = Vec::new();
+            cut_triangle([a, b, c], [0.0; 3], Vec3::zeros(), 1.0, &mut points);
+            counts.push(points.len());
+        }
+        assert!(counts.iter().all(|&n| (15..=17).contains(&n)), "{counts:?}");
     }
 
     #[test]
