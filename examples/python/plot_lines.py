@@ -3,8 +3,10 @@
     pip install ./crates/crestline-py matplotlib
     python examples/python/plot_lines.py crates/crestline-cli/data/fandisk.obj -o fandisk-lines.png
 
-The mesh is drawn as a shaded grey surface, ridges red and valleys blue. matplotlib has no depth
-buffer across artists, so lines behind the surface show through; for an interactive view with
+The mesh is drawn as a shaded grey surface, ridges red and valleys blue; sharp creases in the
+colour of their family (convex creases, kind "crease-ridge", red; concave ones, "crease-valley",
+blue), as `crestline render` draws them, and thicker in the PNG; Polyscope shows each kind as a
+curve network of its own. matplotlib has no depth buffer across artists, so lines behind the surface show through; for an interactive view with
 proper hidden lines use Polyscope (`pip install polyscope`, then `--polyscope`), or
 `crestline.render`, which draws a PNG with hidden lines removed.
 """
@@ -20,7 +22,15 @@ from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection  # noq
 
 import crestline  # noqa: E402
 
-COLORS = {"ridge": "#d7191c", "valley": "#2c7bb6"}
+RED, BLUE = "#d7191c", "#2c7bb6"
+# Every kind a line can have: crest lines, and sharp creases in the colour of their family.
+COLORS = {"ridge": RED, "valley": BLUE, "crease-ridge": RED, "crease-valley": BLUE}
+WIDTHS = {"ridge": 1.5, "valley": 1.5, "crease-ridge": 2.5, "crease-valley": 2.5}
+
+
+def rgb(color):
+    """'#rrggbb' as an (r, g, b) tuple of floats in [0, 1], as Polyscope takes colours."""
+    return tuple(int(color[i : i + 2], 16) / 255 for i in (1, 3, 5))
 
 
 def segments_by_kind(lines):
@@ -51,7 +61,7 @@ def plot(vertices, faces, lines, path, elevation=20, azimuth=30):
     ax.add_collection3d(surface)
     for kind, polylines in segments_by_kind(lines).items():
         ax.add_collection3d(
-            Line3DCollection(polylines, colors=COLORS.get(kind, "black"), linewidths=1.5, label=kind)
+            Line3DCollection(polylines, colors=COLORS[kind], linewidths=WIDTHS[kind], label=kind)
         )
     low, high = vertices.min(axis=0), vertices.max(axis=0)
     center, half = (low + high) / 2, (high - low).max() / 2
@@ -70,7 +80,7 @@ def show_in_polyscope(vertices, faces, lines):
 
     ps.init()
     ps.register_surface_mesh("mesh", vertices, faces)
-    for kind, color in (("ridge", (0.84, 0.1, 0.11)), ("valley", (0.17, 0.48, 0.71))):
+    for kind, color in COLORS.items():
         chosen = [line for line in lines if line.kind == kind]
         if not chosen:
             continue
@@ -82,7 +92,8 @@ def show_in_polyscope(vertices, faces, lines):
             if line.closed:
                 edges.append((start + n - 1, start))
             start += n
-        ps.register_curve_network(f"{kind}s", nodes, np.array(edges), color=color)
+        # One network per kind (creases too), each shown or hidden in Polyscope's panel.
+        ps.register_curve_network(f"{kind}s", nodes, np.array(edges), color=rgb(color))
     ps.show()
 
 

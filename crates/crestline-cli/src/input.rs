@@ -14,6 +14,8 @@ use crestline::lines::FeatureLines;
 use crestline::mesh::{EdgeKind, VertexKind, Weld};
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 
+use crate::progress::note;
+
 /// The built-in example: the fandisk CAD part (see `data/README.md`).
 const BUILT_IN_EXAMPLE: &[u8] = include_bytes!("../data/fandisk.obj");
 
@@ -124,24 +126,27 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
     let count =
         |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     if report.rewound_faces > 0 {
-        eprintln!(
+        note!(
             "{name}: {} wound against their neighbours; reversed so that normals agree \
              (--keep-orientation to keep them)",
             count(report.rewound_faces, "triangle was", "triangles were")
         );
     }
+    // A warning, not a note: the lines there are wrong, `-q` or not.
     if report.non_orientable > 0 {
         eprintln!(
-            "{name}: {} not be wound consistently (non-orientable, like a Möbius strip): \
+            "{name}: warning: {} not be wound consistently (non-orientable, like a Möbius strip): \
              normals, and with them ridges and valleys, swap across a seam there",
             count(report.non_orientable, "patch could", "patches could")
         );
     }
     if report.inward > 0 {
-        eprintln!(
+        note!(
             "{name}: {} of {} closed components faced inward ({} triangles); reversed them so \
              that normals point outward (--keep-orientation to keep them)",
-            report.inward, report.closed, report.inward_faces
+            report.inward,
+            report.closed,
+            report.inward_faces
         );
     }
     Ok(Prepared { mesh, weld, given })
@@ -197,7 +202,7 @@ pub fn weld_mesh(mesh: &TriMesh, name: &str) -> Result<Option<(TriMesh, Weld)>> 
         also += &format!("{before} -> {after} boundary edges; ");
     }
     if weld.merged == 0 {
-        eprintln!(
+        note!(
             "{name}: dropped {} triangles that repeated the corners of others (a piece stored \
              twice; --no-weld to keep them)",
             weld.duplicate_faces
@@ -211,7 +216,7 @@ pub fn weld_mesh(mesh: &TriMesh, name: &str) -> Result<Option<(TriMesh, Weld)>> 
             weld.duplicate_faces
         );
     }
-    eprintln!(
+    note!(
         "{name}: welded {} vertices that shared their position with another \
          ({also}--no-weld to keep them apart)",
         weld.merged
@@ -219,8 +224,8 @@ pub fn weld_mesh(mesh: &TriMesh, name: &str) -> Result<Option<(TriMesh, Weld)>> 
     Ok(Some((welded, weld)))
 }
 
-/// One line on stderr listing the parts of `mesh` that are skipped or handled specially,
-/// when there are any.
+/// One note on stderr (none with `-q`) listing the parts of `mesh` that are skipped or
+/// handled specially, when there are any.
 fn note_awkward_parts(mesh: &TriMesh, name: &str) {
     let topo = mesh.topology();
     let unreferenced = topo.count_vertices(VertexKind::Unreferenced);
@@ -250,7 +255,7 @@ fn note_awkward_parts(mesh: &TriMesh, name: &str) {
         ));
     }
     if !parts.is_empty() {
-        eprintln!("{name}: {}", parts.join("; "));
+        note!("{name}: {}", parts.join("; "));
     }
 }
 
@@ -319,6 +324,12 @@ pub fn is_dash(path: &Path) -> bool {
 pub fn load_mesh(path: Option<&Path>, format: Option<FormatArg>) -> Result<(TriMesh, String)> {
     let (mesh, name) = match path {
         Some(p) if is_dash(p) => read_stdin(format, "-")?,
+        // `extract` runs a folder as a batch and never gets here with one.
+        Some(p) if p.is_dir() => bail!(
+            "{}: this is a folder, not a mesh file: give a mesh file (OBJ, PLY, OFF, STL; only \
+             `crestline extract` takes folders, as a batch)",
+            p.display()
+        ),
         Some(p) => {
             // Every reading error already names the file (and the position in it).
             let mesh = crestline::io::read_mesh(p, format.map(Into::into))?;
@@ -440,6 +451,13 @@ impl LinesArg {
 
 /// Reads feature lines written by `crestline extract` (OBJ, PLY or JSON, by extension).
 pub fn read_lines(path: &Path) -> Result<FeatureLines> {
+    if path.is_dir() {
+        bail!(
+            "{}: this is a folder, not a lines file: give the OBJ, PLY or JSON file `crestline \
+             extract` wrote",
+            path.display()
+        );
+    }
     // Reading errors already name the file and the position in it.
     Ok(crestline::io::lines::read_lines(path, None)?)
 }
@@ -455,9 +473,9 @@ pub fn load_lines(path: Option<&Path>, mesh: &TriMesh) -> Result<FeatureLines> {
                 orient_outward: false,
                 ..ExtractOptions::default()
             };
-            crate::progress::note!(
-                "no --lines given: extracting them with the default method ({:?})",
-                options.method()
+            note!(
+                "no --lines given: extracting them with the default method ({})",
+                crate::cmd::extract::method_name(options.method())
             );
             Ok(extract(mesh, &options)
                 .context("cannot extract the lines")?

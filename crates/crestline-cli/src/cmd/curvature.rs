@@ -258,7 +258,10 @@ pub fn run(args: Args) -> Result<()> {
     } else {
         let mut writer = PlyWriter::new(mesh)
             .encoding(args.ply.encoding())
-            .comment(format!("crestline curvature ({estimator:?}) of {name}"));
+            .comment(format!(
+                "crestline curvature ({}) of {name}",
+                estimator_name(estimator)
+            ));
         for (n, values) in &cols {
             let single: Vec<f32> = values.iter().map(|&x| x as f32).collect();
             writer = writer.property(VertexProperty::new(*n, single))?;

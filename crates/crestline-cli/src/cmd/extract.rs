@@ -13,8 +13,8 @@ use crestline::extract::{
 };
 use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines, write_lines_to};
-use crestline::lines::FeatureLines;
 use crestline::lines::crease::CreaseAngle;
+use crestline::lines::{FeatureLines, LineKind};
 use crestline::render::{self, PictureFormat, RenderOptions};
 use crestline::smoothing::extremality::MaskRegion;
 use crestline::smoothing::surface::SurfaceSmoothing;
@@ -87,23 +87,30 @@ pub struct Args {
     /// The method.
     #[arg(long, value_enum, default_value = "hpw")]
     pub method: MethodArg,
-    /// Extremality smoothing steps, HPW and YBS (default 2; 0 turns it off, which for YBS
-    /// is the method as published).
+    /// Extremality smoothing steps, every method (the saliency method links crest points).
+    /// Default: automatic. With the jet-fit estimator 2 steps on meshes the fit finds noisy
+    /// (`--stats` shows the noise it measured) and none on clean ones, where the fit has
+    /// averaged enough; 2 with --estimator shape-operator or cubic-fit. Any other smoothing
+    /// option (--smooth-time, --no-twicing, --crease-angle, --mask*) makes the 2 steps run on
+    /// clean meshes too. 0 turns it off, which for YBS is the method as published.
     #[arg(long, value_parser = whole_number::<usize>, allow_negative_numbers = true)]
     pub smooth_steps: Option<usize>,
     /// Extremality smoothing step size T, relative to the squared mean edge length, above 0
-    /// and at most 1e6 (HPW and YBS; default 1). A step smooths over about sqrt(T) rings, so
-    /// the largest already reaches across any mesh.
+    /// and at most 1e6 (default 1). A step smooths over about sqrt(T) rings, so the largest
+    /// already reaches across any mesh. Given, the smoothing runs on clean meshes too (see
+    /// --smooth-steps).
     #[arg(long, value_parser = positive, allow_negative_numbers = true)]
     pub smooth_time: Option<f64>,
-    /// Plain extremality smoothing, as HPW smooth (HPW and YBS). By default the smoothing is
-    /// twiced: the residual it removes is smoothed and added back, which removes about the same
-    /// noise without the drift it gives the zeros of the extremalities (twice the steps).
+    /// Plain extremality smoothing, as HPW smooth. By default the smoothing is twiced: the
+    /// residual it removes is smoothed and added back, which removes about the same noise
+    /// without the drift it gives the zeros of the extremalities (twice the steps). Given,
+    /// the smoothing runs on clean meshes too (see --smooth-steps).
     #[arg(long)]
     pub no_twicing: bool,
-    /// Crease-aware smoothing (HPW and YBS): damp the smoothing across edges where the
+    /// Crease-aware extremality smoothing: damp the smoothing across edges where the
     /// curvature jumps by about this dihedral angle, in degrees, 0 to 180 (default 0.3 rad,
-    /// about 17.2; 0 with --no-twicing gives HPW's plain smoothing).
+    /// about 17.2; 0 with --no-twicing gives HPW's plain smoothing). Given, the smoothing
+    /// runs on clean meshes too (see --smooth-steps).
     #[arg(long, value_name = "DEGREES", value_parser = degrees, allow_negative_numbers = true)]
     pub crease_angle: Option<f64>,
     /// Sharp creases: `auto` (default: edges above the gap in the histogram of dihedral
@@ -127,16 +134,20 @@ pub struct Args {
     /// >= 0 (for example 0.002). Off by default.
     #[arg(long, value_parser = non_negative, allow_negative_numbers = true)]
     pub fair: Option<f64>,
-    /// Surface pre-smoothing steps (implicit mean-curvature flow). Off by default.
+    /// Surface pre-smoothing steps (implicit mean-curvature flow), for very noisy scans. Off
+    /// by default (the jet fit adapts to noise); not for CAD meshes, whose surface beside the
+    /// creases it rounds into short spurious crest lines.
     #[arg(long, value_parser = whole_number::<usize>, allow_negative_numbers = true)]
     pub pre_smooth: Option<usize>,
     #[command(flatten)]
     pub estimator: EstimatorArgs,
-    /// Per-vertex diffusion factors for inhomogeneous smoothing: a text file with one number
-    /// per vertex (whitespace separated, `#` comments).
+    /// Per-vertex diffusion factors of the extremality smoothing (inhomogeneous smoothing):
+    /// a text file with one number >= 0 per vertex (whitespace separated, `#` comments).
+    /// Given, the smoothing runs on clean meshes too (see --smooth-steps).
     #[arg(long)]
     pub mask: Option<PathBuf>,
-    /// A sphere `x,y,z,r,factor` scaling the smoothing inside it (repeatable).
+    /// A sphere `x,y,z,r,factor` (r and factor >= 0) scaling the extremality smoothing
+    /// inside it (repeatable; the smoothing then runs on clean meshes too).
     #[arg(
         long = "mask-sphere",
         value_name = "X,Y,Z,R,F",
@@ -144,7 +155,8 @@ pub struct Args {
         allow_hyphen_values = true
     )]
     pub mask_spheres: Vec<MaskRegion>,
-    /// A box `x0,y0,z0,x1,y1,z1,factor` scaling the smoothing inside it (repeatable).
+    /// A box `x0,y0,z0,x1,y1,z1,factor` (factor >= 0) scaling the extremality smoothing
+    /// inside it (repeatable; the smoothing then runs on clean meshes too).
     #[arg(
         long = "mask-box",
         value_name = "X0,Y0,Z0,X1,Y1,Z1,F",
@@ -251,7 +263,13 @@ pub fn run(args: Args) -> Result<()> {
     }
 
     if !progress::quiet() {
-        print_summary(&name, &output, &extraction.stats, &options);
+        print_summary(
+            &name,
+            &output,
+            &extraction.lines,
+            &extraction.stats,
+            &options,
+        );
     }
     match args.stats {
         Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, mesh, &io)),
@@ -264,23 +282,99 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// The lines of each kind, as the JSON lines file counts them (`ridges`, `valleys`,
+/// `crease_ridges`, `crease_valleys`): ridges and valleys are crest lines only, creases are
+/// counted apart (convex ones are crease ridges, concave ones crease valleys).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LineCounts {
+    /// Crest lines of the ridge family.
+    pub ridges: usize,
+    /// Crest lines of the valley family.
+    pub valleys: usize,
+    /// Convex sharp creases (`crease-ridge`).
+    pub crease_ridges: usize,
+    /// Concave sharp creases (`crease-valley`).
+    pub crease_valleys: usize,
+}
+
+impl LineCounts {
+    /// Counts the lines of `lines` by kind.
+    pub fn of(lines: &FeatureLines) -> Self {
+        let count = |kind: LineKind, crease: bool| {
+            lines
+                .lines
+                .iter()
+                .filter(|l| l.kind == kind && l.crease == crease)
+                .count()
+        };
+        LineCounts {
+            ridges: count(LineKind::Ridge, false),
+            valleys: count(LineKind::Valley, false),
+            crease_ridges: count(LineKind::Ridge, true),
+            crease_valleys: count(LineKind::Valley, true),
+        }
+    }
+
+    /// `2 ridges, 2 valleys, 34 convex and 4 concave creases`; the creases only when there
+    /// are some.
+    pub fn describe(&self) -> String {
+        let plural =
+            |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+        let mut text = format!(
+            "{}, {}",
+            plural(self.ridges, "ridge", "ridges"),
+            plural(self.valleys, "valley", "valleys")
+        );
+        let creases = self.crease_ridges + self.crease_valleys;
+        if creases > 0 {
+            text += &format!(
+                ", {} convex and {} concave {}",
+                self.crease_ridges,
+                self.crease_valleys,
+                if creases == 1 { "crease" } else { "creases" }
+            );
+        }
+        text
+    }
+}
+
+/// `x` with six significant digits (`80.7701`, `0.000123457`; a length of a mesh modelled in
+/// metres at the scale of microns is not `0.0000`), in scientific notation beyond 1e-4 and
+/// 1e9.
+pub fn significant(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor();
+    if (-4.0..9.0).contains(&magnitude) {
+        let decimals = (5.0 - magnitude).max(0.0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.5e}")
+    }
+}
+
 /// The one-paragraph summary on stderr: counts, creases, and what the automatic threshold
 /// found.
-fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractOptions) {
+fn print_summary(
+    name: &str,
+    output: &Path,
+    lines: &FeatureLines,
+    s: &ExtractStats,
+    options: &ExtractOptions,
+) {
     eprintln!(
-        "{name}: {} lines ({} ridges, {} valleys), total length {:.4} -> {}",
+        "{name}: {} lines ({}), total length {} -> {}",
         s.lines,
-        s.ridges,
-        s.valleys,
-        s.total_length,
+        LineCounts::of(lines).describe(),
+        significant(s.total_length),
         display(output)
     );
     if s.creases > 0 {
         eprintln!(
-            "{} sharp creases (dihedral angle > {:.1} degrees), length {:.4}",
-            s.creases,
+            "sharp creases: dihedral angle > {:.1} degrees, length {}",
             s.crease_threshold.unwrap_or(f64::NAN),
-            s.crease_length
+            significant(s.crease_length)
         );
     }
     if s.threshold_is_auto {
@@ -425,11 +519,20 @@ fn method(args: &Args) -> Method {
     }
 }
 
+/// The method's command-line name (`hpw`, `ybs`, `saliency`).
+pub fn method_name(method: Method) -> &'static str {
+    match method {
+        Method::Hpw => "hpw",
+        Method::Ybs => "ybs",
+        Method::Saliency => "saliency",
+    }
+}
+
 /// Refuses options that the chosen method or estimator would not use, before any work.
 fn check_method_options(args: &Args) -> Result<()> {
     let method = method(args);
     let defaults = ExtractOptions::for_method(method);
-    let method_name = format!("{:?}", args.method).to_lowercase();
+    let method_name = method_name(method);
     let mut unused: Vec<String> = Vec::new();
     if args.no_gaps && method != Method::Ybs {
         unused.push("--no-gaps (gap jumping is part of --method ybs only)".into());
@@ -439,6 +542,13 @@ fn check_method_options(args: &Args) -> Result<()> {
         bail!(
             "options that --method {method_name} would not use: {}",
             unused.join("; ")
+        );
+    }
+    let smoothing = smoothing_options_given(args);
+    if args.smooth_steps == Some(0) && !smoothing.is_empty() {
+        bail!(
+            "{}: the extremality smoothing they set does not run with --smooth-steps 0",
+            smoothing.join(", ")
         );
     }
     Ok(())
@@ -540,6 +650,10 @@ pub fn options_from_args(args: &Args) -> Result<ExtractOptions> {
     o.orient_outward = false;
     if let Some(n) = args.smooth_steps {
         o.smoothing.steps = n;
+    }
+    // The library smooths clean meshes only when told to: a smoothing option given is that
+    // (otherwise `--smooth-time 50` would change nothing on fandisk, in silence).
+    if args.smooth_steps.is_some() || !smoothing_options_given(args).is_empty() {
         o.smooth_only_noisy = false;
     }
     if let Some(t) = args.smooth_time {
@@ -583,6 +697,21 @@ pub fn options_from_args(args: &Args) -> Result<ExtractOptions> {
     Ok(o)
 }
 
+/// The options of the extremality smoothing given besides `--smooth-steps`, by flag.
+fn smoothing_options_given(args: &Args) -> Vec<&'static str> {
+    [
+        (args.smooth_time.is_some(), "--smooth-time"),
+        (args.no_twicing, "--no-twicing"),
+        (args.crease_angle.is_some(), "--crease-angle"),
+        (args.mask.is_some(), "--mask"),
+        (!args.mask_spheres.is_empty(), "--mask-sphere"),
+        (!args.mask_boxes.is_empty(), "--mask-box"),
+    ]
+    .into_iter()
+    .filter_map(|(given, flag)| given.then_some(flag))
+    .collect()
+}
+
 /// The `--mask-sphere` regions, then the `--mask-box` ones (the last containing a vertex
 /// wins).
 pub fn mask_regions(args: &Args) -> Vec<MaskRegion> {
@@ -596,6 +725,10 @@ pub fn mask_regions(args: &Args) -> Vec<MaskRegion> {
 /// Parses `--mask-sphere x,y,z,r,factor`.
 fn mask_sphere(s: &str) -> Result<MaskRegion, String> {
     let [x, y, z, radius, factor] = numbers(s)?;
+    if radius < 0.0 {
+        return Err(format!("radius '{radius}' must be a number >= 0"));
+    }
+    check_factor(factor)?;
     Ok(MaskRegion::Sphere {
         center: Vec3::new(x, y, z),
         radius,
@@ -606,11 +739,21 @@ fn mask_sphere(s: &str) -> Result<MaskRegion, String> {
 /// Parses `--mask-box x0,y0,z0,x1,y1,z1,factor`.
 fn mask_box(s: &str) -> Result<MaskRegion, String> {
     let [x0, y0, z0, x1, y1, z1, factor] = numbers(s)?;
+    check_factor(factor)?;
     Ok(MaskRegion::Box {
         min: Vec3::new(x0, y0, z0),
         max: Vec3::new(x1, y1, z1),
         factor,
     })
+}
+
+/// Refuses a diffusion factor below 0, as `--mask` files do: diffusion cannot be negative.
+fn check_factor(factor: f64) -> Result<(), String> {
+    if factor >= 0.0 {
+        Ok(())
+    } else {
+        Err(format!("factor '{factor}' must be a finite number >= 0"))
+    }
 }
 
 /// `N` comma-separated finite numbers.
@@ -690,12 +833,13 @@ fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
     );
     out += &format!("lines traced           {}\n", s.lines_traced);
     out += &format!(
-        "lines kept             {} ({} ridges, {} valleys)\n",
-        s.lines, s.ridges, s.valleys
+        "lines kept             {} ({})\n",
+        s.lines,
+        LineCounts::of(&x.lines).describe()
     );
     out += &format!(
-        "total length           {:.6} ({:.2} diagonals)\n",
-        s.total_length,
+        "total length           {} ({:.2} diagonals)\n",
+        significant(s.total_length),
         s.total_length / mesh.bounding_box().diagonal().max(f64::MIN_POSITIVE)
     );
     out += &format!(
@@ -705,8 +849,10 @@ fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
     );
     out += &match s.crease_threshold {
         Some(t) => format!(
-            "creases                {} (dihedral angle > {:.2} degrees, length {:.6})\n",
-            s.creases, t, s.crease_length
+            "creases                {} (dihedral angle > {:.2} degrees, length {})\n",
+            s.creases,
+            t,
+            significant(s.crease_length)
         ),
         None => "creases                none\n".to_string(),
     };
@@ -754,6 +900,9 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
         "singular_min": s.trace.singular_min,
         "lines_traced": s.lines_traced,
         "lines": s.lines,
+        // The library's figures, as Python's `Lines.stats` gives them: here `ridges` and
+        // `valleys` count the creases of their family too, unlike the lines file's and the
+        // summary's (a change of `ExtractStats` and of the bindings, not of the CLI alone).
         "ridges": s.ridges,
         "valleys": s.valleys,
         "total_length": s.total_length,

@@ -6,7 +6,7 @@ use crestline::lines::FeatureLines;
 use crestline::simplify::{SimplifyOptions, Target, simplify};
 
 use crate::input::{LinesArg, OrientedMeshArgs, is_dash, load_lines};
-use crate::output::{MeshOutputArgs, display, to_stdout};
+use crate::output::{MeshOutputArgs, check_output, display, to_stdout};
 use crate::progress::{self, note};
 
 /// Arguments of `crestline simplify`.
@@ -46,6 +46,8 @@ pub fn run(args: Args) -> Result<()> {
         bail!("--json and -o - both write to standard output: choose one");
     }
     let output_format = args.out.format()?;
+    // Before the work: writing comes last, and a missing folder would only show then.
+    check_output(&args.out.output, &[])?;
     let mut options = SimplifyOptions::default();
     if let Some(r) = args.ratio {
         options.target = Target::Ratio(r);

@@ -5,7 +5,7 @@ use crestline::io::{WriteOptions, write_mesh, write_mesh_to};
 use crestline::mesh::{SubdivideOptions, loop_subdivide};
 
 use crate::input::{MeshArgs, is_dash, weld_mesh};
-use crate::output::{MeshOutputArgs, display, to_stdout};
+use crate::output::{MeshOutputArgs, check_output, display, to_stdout};
 use crate::progress::{self, note};
 
 /// Arguments of `crestline subdivide`.
@@ -47,6 +47,8 @@ pub struct Args {
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
     let output_format = args.out.format()?;
+    // Before the work: writing comes last, and a missing folder would only show then.
+    check_output(&args.out.output, &[])?;
     let mut options = SubdivideOptions::default();
     if let Some(levels) = args.levels {
         options.levels = levels;

@@ -55,10 +55,60 @@ fn a_directory_as_input() {
     let dir = tempfile::tempdir().unwrap();
     let folder = dir.path().join("folder.obj");
     std::fs::create_dir(&folder).unwrap();
-    failed_with(
-        &crestline(&["info", s(&folder)]),
-        &[s(&folder), "directory"],
+    failed_with(&crestline(&["info", s(&folder)]), &[s(&folder), "folder"]);
+    // Without an extension it was "no file extension: cannot tell the mesh format".
+    let plain = dir.path().join("somedir");
+    std::fs::create_dir(&plain).unwrap();
+    let png = dir.path().join("x.png");
+    for args in [
+        vec!["info", s(&plain)],
+        vec!["render", s(&plain), "-o", s(&png)],
+        vec!["curvature", s(&plain), "-o", s(&dir.path().join("c.ply"))],
+        vec!["simplify", s(&plain), "-o", s(&dir.path().join("s.obj"))],
+        vec!["subdivide", s(&plain), "-o", s(&dir.path().join("d.obj"))],
+    ] {
+        let last = failed_with(&crestline(&args), &[s(&plain), "is a folder"]);
+        assert!(!last.contains("extension"), "{last}");
+    }
+    // extract takes a folder as a batch, as before.
+    let last = failed_with(
+        &crestline(&["extract", s(&plain), "-o", s(&dir.path().join("out"))]),
+        &[s(&plain), "no mesh files"],
     );
+    assert!(!last.contains("extension"), "{last}");
+    // A folder as --lines.
+    let mesh = tetra_in(dir.path());
+    failed_with(
+        &crestline(&["render", s(&mesh), "--lines", s(&plain), "-o", s(&png)]),
+        &[s(&plain), "is a folder"],
+    );
+    assert!(!png.exists());
+}
+
+#[test]
+fn a_mesh_output_in_a_missing_folder_is_refused_before_the_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = tetra_in(dir.path());
+    let missing = dir.path().join("nonexistent");
+    let output = missing.join("x.ply");
+    for command in ["simplify", "subdivide"] {
+        let out = crestline(&[command, s(&mesh), "-o", s(&output)]);
+        let last = failed_with(
+            &out,
+            &[
+                s(&output),
+                &format!("the folder {} does not exist", s(&missing)),
+            ],
+        );
+        // Not the temporary file's name, and before the lines were extracted.
+        assert!(!last.contains(".part"), "{last}");
+        assert!(
+            !stderr(&out).contains("no --lines given"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    assert_eq!(listing(dir.path()), vec!["tetra.obj"]);
 }
 
 #[test]

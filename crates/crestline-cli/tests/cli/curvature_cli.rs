@@ -30,6 +30,11 @@ fn curvature_writes_ply_properties_and_csv_columns() {
     let bytes = std::fs::read(&ply).unwrap();
     let end = bytes.windows(10).position(|w| w == b"end_header").unwrap();
     let header = String::from_utf8_lossy(&bytes[..end]);
+    // The estimator as the command line spells it (it said `JetFit`).
+    assert!(
+        header.contains("crestline curvature (jet-fit) of "),
+        "{header}"
+    );
     for p in [
         "k_max",
         "k_min",

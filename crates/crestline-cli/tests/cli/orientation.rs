@@ -31,7 +31,7 @@ fn extract(mesh: &Path, extra: &[&str]) -> (u64, u64, String) {
     let output = dir.join("lines.obj");
     let mut args: Vec<&OsStr> = vec!["extract".as_ref(), mesh.as_ref(), "-o".as_ref()];
     args.push(output.as_ref());
-    args.extend(["--stats=json", "-q"].map(OsStr::new));
+    args.push("--stats=json".as_ref());
     args.extend(extra.iter().map(OsStr::new));
     let out = crestline_ok(args);
     let stats: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -64,16 +64,65 @@ fn an_ellipsoid_wound_inward_still_has_a_ridge_not_a_valley() {
     );
 }
 
-#[test]
-fn skipped_parts_of_a_mesh_are_named_on_stderr() {
-    // Two triangles of a square, a degenerate one (repeated corner) and two stray vertices.
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("awkward.off");
+/// Writes a square of two triangles, a degenerate one (repeated corner) and two stray
+/// vertices.
+fn write_awkward(path: &Path) {
     std::fs::write(
-        &path,
+        path,
         "OFF\n6 3 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 2 2\n5 5 5\n3 0 1 2\n3 1 3 2\n3 0 0 1\n",
     )
     .unwrap();
+}
+
+#[test]
+fn quiet_hides_the_notes_about_the_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let (inward, awkward, seam) = (
+        dir.path().join("inward.off"),
+        dir.path().join("awkward.off"),
+        dir.path().join("seam.obj"),
+    );
+    write_inward_ellipsoid(&inward);
+    write_awkward(&awkward);
+    // Two triangles side by side, each with its own copy of the shared edge: welded.
+    std::fs::write(
+        &seam,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 4 5 6\n",
+    )
+    .unwrap();
+    for mesh in [&inward, &awkward, &seam] {
+        let loud = stderr(&crestline_ok([
+            "extract".as_ref(),
+            mesh.as_os_str(),
+            "-o".as_ref(),
+            dir.path().join("l.obj").as_os_str(),
+        ]));
+        assert!(
+            ["faced inward", "degenerate", "welded"]
+                .iter()
+                .any(|note| loud.contains(note)),
+            "{loud}"
+        );
+        // `-q` before or after the subcommand.
+        let output = dir.path().join("l.obj");
+        let args: [&OsStr; 4] = [
+            "extract".as_ref(),
+            mesh.as_ref(),
+            "-o".as_ref(),
+            output.as_ref(),
+        ];
+        let before = std::iter::once("-q".as_ref()).chain(args);
+        let after = args.into_iter().chain(std::iter::once("-q".as_ref()));
+        assert_eq!(stderr(&crestline_ok(before)), "", "{}", mesh.display());
+        assert_eq!(stderr(&crestline_ok(after)), "", "{}", mesh.display());
+    }
+}
+
+#[test]
+fn skipped_parts_of_a_mesh_are_named_on_stderr() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("awkward.off");
+    write_awkward(&path);
     let (ridges, valleys, stderr) = extract(&path, &[]);
     assert_eq!((ridges, valleys), (0, 0));
     assert!(

@@ -145,3 +145,17 @@ fn bad_arguments_fail_cleanly() {
     let err = stderr(&run);
     assert!(err.contains("ratio") && !err.contains("panicked"), "{err}");
 }
+
+#[test]
+fn the_default_method_is_named_as_the_command_line_spells_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, _) = pillow_box_files(dir.path());
+    for (command, output) in [("simplify", "small.obj"), ("distance", "field.ply")] {
+        let out = crestline_ok([command, s(&mesh), "-o", s(&dir.path().join(output))]);
+        let err = stderr(&out);
+        assert!(
+            err.contains("extracting them with the default method (hpw)"),
+            "{command}: {err}"
+        );
+    }
+}
