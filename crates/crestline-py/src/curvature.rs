@@ -1,27 +1,33 @@
-//! `crestline.curvature`: the command-line tool's `curvature`, on arrays.
+//! `crestline.curvature`: the command-line tool's `curvature`, on arrays; and the estimator
+//! options `curvature` and `extract` share ([`EstimatorArguments`]).
 
-use crestline::curvature::{CurvatureOptions, Estimator, estimate};
+use crestline::curvature::cubic_fit::MAX_RINGS;
+use crestline::curvature::{CurvatureOptions, Estimator, estimate_split};
+use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
 use numpy::PyArray1;
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::{count, vectors_array};
-use crate::error::{choose, to_py_err};
-use crate::extract::ESTIMATORS;
+use crate::error::{choose, invalid, name_of, to_py_err};
+use crate::extract::crease_angle_of;
 use crate::mesh::{mesh_from_arrays, per_given_vertex};
 
 /// Principal curvatures, directions and extremalities of every vertex of the mesh
 /// `(vertices, faces)` (array-likes as for `extract`).
 ///
-/// Options, with the defaults of `crestline curvature`: `estimator` "jet-fit" (default;
-/// "cubic-fit" when `rings` is given), "shape-operator" or "cubic-fit"; `rings`, the k-ring of
-/// the cubic fit (1 to 8, default 1);
+/// Options, with the defaults of `crestline curvature` (each named as its flag, `-` written
+/// `_`): `estimator` "jet-fit" (default; "cubic-fit" when `rings` is given), "shape-operator"
+/// or "cubic-fit"; `rings`, the k-ring of the cubic fit (1 to 8, default 1);
 /// `radius`, the jet fit's disc radius in sample spacings (default 2.5); `degree`, the jet
 /// fit's polynomial degree (3 or 4, default 4; 4 lets the fit choose on noisy meshes);
 /// `no_noise_adaptation`, keep the jet fit's radius fixed on noisy meshes;
-/// `keep_orientation` and `no_weld`, as for `extract`. An option of another estimator than
-/// the one that runs is a `ValueError`, as on the command line.
+/// `direction_support`, the neighbourhood's weight in the shape operator's principal
+/// directions (default 0.5; 0 is the paper's operator); `creases`, the sharp creases the jet
+/// fit does not reach across (each side gets its own fit): "auto" (default: the edges above
+/// the gap in the histogram of dihedral angles, none on scans), "off", or a dihedral angle
+/// in degrees; `keep_orientation` and `no_weld`, as for `extract`. An option of another
+/// estimator than the one that runs is a `ValueError`, as on the command line.
 ///
 /// Returns a dict of numpy arrays indexed like the vertices: "k_max", "k_min", "e_max",
 /// "e_min" (n,) and "dir_max", "dir_min", "normals" (n, 3). Signs: a sphere of radius r
@@ -30,7 +36,8 @@ use crate::mesh::{mesh_from_arrays, per_given_vertex};
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, estimator = None, *, rings = None, radius = None, degree = None,
-    no_noise_adaptation = false, keep_orientation = false, no_weld = false,
+    no_noise_adaptation = false, direction_support = None, creases = None,
+    keep_orientation = false, no_weld = false,
 ))]
 pub fn curvature<'py>(
     py: Python<'py>,
@@ -41,49 +48,51 @@ pub fn curvature<'py>(
     radius: Option<f64>,
     degree: Option<&Bound<'py, PyAny>>,
     no_noise_adaptation: bool,
+    direction_support: Option<f64>,
+    creases: Option<&Bound<'py, PyAny>>,
     keep_orientation: bool,
     no_weld: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let rings = rings.map(|k| count(k, "rings")).transpose()?;
-    let degree = degree.map(|d| count(d, "degree")).transpose()?;
-    let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
-    let estimator = match (estimator, rings) {
-        (Some(name), _) => choose("estimator", name, &ESTIMATORS)?,
-        (None, Some(_)) => Estimator::CubicFit,
-        (None, None) => Estimator::JetFit,
-    };
-    let mut unused = Vec::new();
-    if estimator != Estimator::CubicFit && rings.is_some() {
-        unused.push("rings");
-    }
-    if estimator != Estimator::JetFit {
-        for (given, name) in [
-            (radius.is_some(), "radius"),
-            (degree.is_some(), "degree"),
-            (no_noise_adaptation, "no_noise_adaptation"),
-        ] {
-            if given {
-                unused.push(name);
-            }
-        }
+    let arguments = EstimatorArguments::new(
+        estimator,
+        rings,
+        radius,
+        degree,
+        no_noise_adaptation,
+        direction_support,
+    )?;
+    let creases = creases.map(crease_angle_of).transpose()?;
+    let defaults = CurvatureOptions::default().with_estimator(Estimator::JetFit);
+    let estimator = arguments.estimator(defaults.estimator);
+    let mut unused = arguments.unused(defaults.estimator);
+    if creases.is_some() && estimator != Estimator::JetFit {
+        unused.push(format!(
+            "creases (the estimation splits at creases with the jet-fit estimator only; this \
+             run uses {})",
+            name_of(&estimator, &ESTIMATORS)
+        ));
     }
     if !unused.is_empty() {
-        let name = ESTIMATORS
-            .iter()
-            .find(|(_, e)| *e == estimator)
-            .map_or("?", |(name, _)| *name);
-        return Err(PyValueError::new_err(format!(
-            "options that estimator '{name}' would not use: {}",
-            unused.join(", ")
+        return Err(invalid(format!(
+            "options that estimator '{}' would not use: {}",
+            name_of(&estimator, &ESTIMATORS),
+            unused.join("; ")
         )));
     }
-    let mut options = CurvatureOptions::default().with_estimator(estimator);
-    options.cubic_fit.rings = rings.unwrap_or(options.cubic_fit.rings);
-    let jet_fit = &mut options.jet_fit;
-    jet_fit.radius = radius.unwrap_or(jet_fit.radius);
-    jet_fit.degree = degree.unwrap_or(jet_fit.degree);
-    jet_fit.adapt_to_noise = !no_noise_adaptation;
-    let c = py.detach(|| estimate(&mesh, &options)).map_err(to_py_err)?;
+    let options = arguments.apply(defaults);
+    // The papers' estimators read one star or ring and do not split at creases.
+    let angle = match estimator {
+        Estimator::JetFit => creases.unwrap_or_default(),
+        _ => CreaseAngle::Off,
+    };
+    let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
+    let c = py
+        .detach(|| {
+            let creases = find_creases(&mesh, &CreaseOptions::DEFAULT.with_angle(angle))?;
+            let split = (!creases.is_empty()).then_some(&creases.edges[..]);
+            estimate_split(&mesh, &options, split)
+        })
+        .map_err(to_py_err)?;
     let fields = PyDict::new(py);
     for (name, values) in [
         ("k_max", c.k_max),
@@ -102,4 +111,123 @@ pub fn curvature<'py>(
         fields.set_item(name, vectors_array(py, &per_given_vertex(&weld, vectors)?)?)?;
     }
     Ok(fields)
+}
+
+/// The estimators by their command-line names.
+pub const ESTIMATORS: [(&str, Estimator); 3] = [
+    ("jet-fit", Estimator::JetFit),
+    ("shape-operator", Estimator::ShapeOperator),
+    ("cubic-fit", Estimator::CubicFit),
+];
+
+/// The curvature estimator and its options as `extract` and `curvature` take them (the
+/// command-line tool's estimator flags): each means the same in both, and the options of an
+/// estimator that does not run are refused ([`EstimatorArguments::unused`]).
+pub struct EstimatorArguments {
+    /// `estimator`, when given.
+    pub estimator: Option<Estimator>,
+    /// `rings` of the cubic fit, 1 to [`MAX_RINGS`].
+    pub rings: Option<usize>,
+    /// `radius` of the jet fit.
+    pub radius: Option<f64>,
+    /// `degree` of the jet fit.
+    pub degree: Option<usize>,
+    /// `no_noise_adaptation` of the jet fit.
+    pub no_noise_adaptation: bool,
+    /// `direction_support` of the shape operator.
+    pub direction_support: Option<f64>,
+}
+
+impl EstimatorArguments {
+    /// The arguments as Python gave them.
+    ///
+    /// # Errors
+    /// `ValueError` for an unknown estimator or `rings` outside 1 to [`MAX_RINGS`];
+    /// `TypeError` and `ValueError` for a `rings` or `degree` that is not a count.
+    pub fn new(
+        estimator: Option<&str>,
+        rings: Option<&Bound<'_, PyAny>>,
+        radius: Option<f64>,
+        degree: Option<&Bound<'_, PyAny>>,
+        no_noise_adaptation: bool,
+        direction_support: Option<f64>,
+    ) -> PyResult<Self> {
+        let rings = rings.map(|k| count(k, "rings")).transpose()?;
+        if let Some(k) = rings.filter(|k| !(1..=MAX_RINGS).contains(k)) {
+            return Err(invalid(format!(
+                "rings must be a whole number from 1 to {MAX_RINGS}, got {k}"
+            )));
+        }
+        Ok(EstimatorArguments {
+            estimator: estimator
+                .map(|name| choose("estimator", name, &ESTIMATORS))
+                .transpose()?,
+            rings,
+            radius,
+            degree: degree.map(|d| count(d, "degree")).transpose()?,
+            no_noise_adaptation,
+            direction_support,
+        })
+    }
+
+    /// The estimator that runs: `estimator`, else the cubic fit with `rings`, else `default`.
+    pub fn estimator(&self, default: Estimator) -> Estimator {
+        match (self.estimator, self.rings) {
+            (Some(e), _) => e,
+            (None, Some(_)) => Estimator::CubicFit,
+            (None, None) => default,
+        }
+    }
+
+    /// The options given for another estimator than the one that runs, each with why.
+    pub fn unused(&self, default: Estimator) -> Vec<String> {
+        let estimator = self.estimator(default);
+        let given = [
+            (self.radius.is_some(), "radius", Estimator::JetFit),
+            (self.degree.is_some(), "degree", Estimator::JetFit),
+            (
+                self.no_noise_adaptation,
+                "no_noise_adaptation",
+                Estimator::JetFit,
+            ),
+            (self.rings.is_some(), "rings", Estimator::CubicFit),
+            (
+                self.direction_support.is_some(),
+                "direction_support",
+                Estimator::ShapeOperator,
+            ),
+        ];
+        given
+            .into_iter()
+            .filter(|&(given, _, needs)| given && estimator != needs)
+            .map(|(_, name, needs)| {
+                format!(
+                    "{name} (it applies to the {} estimator; this run uses {})",
+                    name_of(&needs, &ESTIMATORS),
+                    name_of(&estimator, &ESTIMATORS)
+                )
+            })
+            .collect()
+    }
+
+    /// `options` with the estimator and the options given.
+    pub fn apply(&self, options: CurvatureOptions) -> CurvatureOptions {
+        let mut options = options.with_estimator(self.estimator(options.estimator));
+        if let Some(k) = self.rings {
+            options = options.with_rings(k);
+        }
+        if let Some(r) = self.radius {
+            options.jet_fit = options.jet_fit.with_radius(r);
+        }
+        if let Some(d) = self.degree {
+            options.jet_fit = options.jet_fit.with_degree(d);
+        }
+        if self.no_noise_adaptation {
+            options.jet_fit = options.jet_fit.with_adapt_to_noise(false);
+        }
+        if let Some(support) = self.direction_support {
+            options.shape_operator.direction_support = support;
+        }
+        options
+    }
 }

@@ -6,8 +6,8 @@
 
 use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
 
-use crestline::curvature::Estimator;
 use crestline::extract::{ExtractOptions, Extraction, Method, Pipeline, extract_with_progress};
+use crestline::lines::crease::CreaseAngle;
 use crestline::mesh::Weld;
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 use crestline::smoothing::surface::SurfaceSmoothing;
@@ -16,7 +16,8 @@ use crestline::{TriMesh, Vec3};
 use pyo3::prelude::*;
 
 use crate::arrays::{count, per_vertex, rows_of_numbers};
-use crate::error::{choose, invalid, to_py_err, type_name, wrong_type};
+use crate::curvature::EstimatorArguments;
+use crate::error::{choose, invalid, name_of, to_py_err, type_name, wrong_type};
 use crate::lines::Lines;
 use crate::mesh::mesh_from_arrays;
 
@@ -25,7 +26,8 @@ use crate::mesh::mesh_from_arrays;
 /// `vertices`: (n, 3) array-like of coordinates (float64, float32, ...); `faces`: (m, 3)
 /// array-like of vertex indices (int64, int32, ...). A `trimesh.Trimesh`'s `.vertices` and
 /// `.faces` work as they are. The options and their defaults are those of `crestline
-/// extract`; `None` means the method's default:
+/// extract`, each named as its flag with `-` written `_` (but for `mask_spheres` and
+/// `mask_boxes`); `None` means the method's default:
 ///
 /// - `method`: "hpw" (Hildebrandt-Polthier-Wardetzky 2005, default), "ybs"
 ///   (Yoshizawa-Belyaev-Seidel 2005) or "saliency" (Mao-Wang-Zhou).
@@ -38,18 +40,25 @@ use crate::mesh::mesh_from_arrays;
 ///   them) and step size relative to the squared mean edge length (default 1).
 /// - `crease_angle`: damp the smoothing across curvature jumps of about this angle, in
 ///   degrees (default 0.3 rad, about 17.2; 0 with `no_twicing` is HPW's plain smoothing).
-/// - `direction_support`: neighbourhood weight in the shape operator's principal directions
-///   (default 0.5; 0 is the paper's operator).
+/// - `creases`: sharp creases, traced as lines of their own and not smoothed or fitted
+///   across: "auto" (default: the edges above the gap in the histogram of dihedral angles;
+///   none when there is no gap, as on scans), "off", or a dihedral angle in degrees.
 /// - `fair`: spatial fairing, largest displacement as a fraction of the diagonal (off).
 /// - `pre_smooth`: steps of implicit mean-curvature flow before anything else (off).
-/// - `estimator`: "jet-fit" (default), "shape-operator" or "cubic-fit".
-/// - `radius`: radius of the jet fit's disc, in sample spacings (default 2.5).
-/// - `rings`: rings of YBS's cubic fit (1 to 8); selects the cubic fit unless `estimator`
-///   says otherwise.
+/// - `estimator`: "jet-fit" (default), "shape-operator" or "cubic-fit". The options of
+///   one estimator given with another that runs are a `ValueError`, as on the command line:
+/// - `radius`, `degree`, `no_noise_adaptation` (jet fit): radius of the disc in sample
+///   spacings (default 2.5; grown on noisy meshes unless `no_noise_adaptation`) and degree
+///   of the polynomial, 3 or 4 (default 4).
+/// - `rings` (cubic fit): rings of YBS's cubic fit (1 to 8); selects the cubic fit unless
+///   `estimator` says otherwise.
+/// - `direction_support` (shape operator): neighbourhood weight in the principal directions
+///   (default 0.5; 0 is the paper's operator).
 /// - `mask`: one diffusion factor per vertex (inhomogeneous smoothing); `mask_spheres`:
-///   `(x, y, z, r, factor)` rows and `mask_boxes`: `(x0, y0, z0, x1, y1, z1, factor)` rows
-///   (tuples, lists, or the rows of a numpy array) scale it inside them.
-/// - `no_gaps`: turn off YBS's gap jumping.
+///   `(x, y, z, r, factor)` rows (the command line's repeated `--mask-sphere`) and
+///   `mask_boxes`: `(x0, y0, z0, x1, y1, z1, factor)` rows (`--mask-box`), tuples, lists,
+///   or the rows of a numpy array, scale it inside them.
+/// - `no_gaps`: turn off YBS's gap jumping (method "ybs" only).
 /// - `keep_orientation`: keep the triangles' winding. By default triangles wound against
 ///   their neighbours, then closed surfaces facing inward, are reversed first (curvature
 ///   signs follow the normals).
@@ -63,15 +72,17 @@ use crate::mesh::mesh_from_arrays;
 ///
 /// Returns a `Lines`. Raises `TypeError` for arguments of the wrong type (a string or floats
 /// where vertex indices are needed, a float where a count is), `ValueError` for bad values
-/// (shape, NaN, index out of range, a negative count) or options. The work releases the GIL;
-/// Ctrl-C raises `KeyboardInterrupt` when the stage running ends.
+/// (shape, NaN, index out of range, a negative count, a mesh without triangles) or options
+/// (out of range, or unused by the method and estimator that run). The work releases the
+/// GIL; Ctrl-C raises `KeyboardInterrupt` when the stage running ends.
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, method = "hpw", *, threshold = None, min_length = None,
-    smooth_steps = None, smooth_time = None, crease_angle = None, direction_support = None,
-    fair = None, pre_smooth = None, estimator = None, radius = None, rings = None,
-    mask = None, mask_spheres = None, mask_boxes = None, no_gaps = false,
-    keep_orientation = false, no_weld = false, no_twicing = false,
+    smooth_steps = None, smooth_time = None, crease_angle = None, creases = None,
+    direction_support = None, fair = None, pre_smooth = None, estimator = None,
+    radius = None, degree = None, no_noise_adaptation = false, rings = None, mask = None,
+    mask_spheres = None, mask_boxes = None, no_gaps = false, keep_orientation = false,
+    no_weld = false, no_twicing = false,
 ))]
 pub fn extract(
     py: Python<'_>,
@@ -83,11 +94,14 @@ pub fn extract(
     smooth_steps: Option<&Bound<'_, PyAny>>,
     smooth_time: Option<f64>,
     crease_angle: Option<f64>,
+    creases: Option<&Bound<'_, PyAny>>,
     direction_support: Option<f64>,
     fair: Option<f64>,
     pre_smooth: Option<&Bound<'_, PyAny>>,
     estimator: Option<&str>,
     radius: Option<f64>,
+    degree: Option<&Bound<'_, PyAny>>,
+    no_noise_adaptation: bool,
     rings: Option<&Bound<'_, PyAny>>,
     mask: Option<&Bound<'_, PyAny>>,
     mask_spheres: Option<&Bound<'_, PyAny>>,
@@ -97,21 +111,53 @@ pub fn extract(
     no_weld: bool,
     no_twicing: bool,
 ) -> PyResult<Lines> {
+    let method = choose("method", method, &METHODS)?;
     let smooth_steps = smooth_steps.map(|n| count(n, "smooth_steps")).transpose()?;
     let pre_smooth = pre_smooth.map(|n| count(n, "pre_smooth")).transpose()?;
-    let rings = rings.map(|n| count(n, "rings")).transpose()?;
+    let estimator = EstimatorArguments::new(
+        estimator,
+        rings,
+        radius,
+        degree,
+        no_noise_adaptation,
+        direction_support,
+    )?;
+    let creases = creases.map(crease_angle_of).transpose()?;
     let mask_spheres = mask_spheres
         .map(|s| rows_of_numbers::<5>(s, "mask_spheres", "(x, y, z, r, factor)"))
         .transpose()?;
     let mask_boxes = mask_boxes
         .map(|b| rows_of_numbers::<7>(b, "mask_boxes", "(x0, y0, z0, x1, y1, z1, factor)"))
         .transpose()?;
-    let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
-    let mut options = ExtractOptions::for_method(choose("method", method, &METHODS)?);
-    // `mesh_from_arrays` has oriented the mesh already, unless `keep_orientation`.
+    refuse_negative_factors(mask_spheres.as_deref(), "mask_spheres")?;
+    refuse_negative_factors(mask_boxes.as_deref(), "mask_boxes")?;
+    let mut options = ExtractOptions::for_method(method);
+    refuse_unused_options(method, &estimator, no_gaps, &options)?;
+    // `mesh_from_arrays` orients the mesh, unless `keep_orientation`.
     options.orient_outward = false;
     if let Some(steps) = smooth_steps {
         options.smoothing.steps = steps;
+    }
+    // As on the command line: the library smooths clean meshes only when told to, and a
+    // smoothing option given is that.
+    let smoothing: Vec<&str> = [
+        (smooth_time.is_some(), "smooth_time"),
+        (no_twicing, "no_twicing"),
+        (crease_angle.is_some(), "crease_angle"),
+        (mask.is_some(), "mask"),
+        (mask_spheres.is_some(), "mask_spheres"),
+        (mask_boxes.is_some(), "mask_boxes"),
+    ]
+    .into_iter()
+    .filter_map(|(given, name)| given.then_some(name))
+    .collect();
+    if smooth_steps == Some(0) && !smoothing.is_empty() {
+        return Err(invalid(format!(
+            "{}: the extremality smoothing they set does not run with smooth_steps=0",
+            smoothing.join(", ")
+        )));
+    }
+    if smooth_steps.is_some() || !smoothing.is_empty() {
         options.smooth_only_noisy = false;
     }
     options.smoothing.time_step = smooth_time.unwrap_or(options.smoothing.time_step);
@@ -119,9 +165,9 @@ pub fn extract(
     if let Some(degrees) = crease_angle {
         options.smoothing.crease_angle = degrees.to_radians();
     }
-    let shape_operator = &mut options.curvature.shape_operator;
-    shape_operator.direction_support =
-        direction_support.unwrap_or(shape_operator.direction_support);
+    if let Some(angle) = creases {
+        options.creases.angle = angle;
+    }
     apply_threshold(&mut options, threshold)?;
     options.min_length = min_length.unwrap_or(options.min_length);
     options.fairing.tolerance = fair.unwrap_or(options.fairing.tolerance);
@@ -131,18 +177,18 @@ pub fn extract(
             ..SurfaceSmoothing::default()
         };
     }
-    if let Some(k) = rings {
-        options.curvature = options
-            .curvature
-            .with_rings(k)
-            .with_estimator(Estimator::CubicFit);
-    }
-    if let Some(name) = estimator {
-        options.curvature.estimator = choose("estimator", name, &ESTIMATORS)?;
-    }
-    options.curvature.jet_fit.radius = radius.unwrap_or(options.curvature.jet_fit.radius);
+    options.curvature = estimator.apply(options.curvature);
     if let (true, Pipeline::Ybs(ybs)) = (no_gaps, &mut options.pipeline) {
         ybs.gaps = None;
+    }
+    let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
+    if mesh.num_faces() == 0 {
+        return Err(invalid(format!(
+            "the mesh has no triangles ({} vertices, {} degenerate triangles dropped): \
+             nothing to work on",
+            weld.map.len(),
+            mesh.degenerate_faces()
+        )));
     }
     options.smoothing.diffusion = diffusion(
         &mesh,
@@ -151,8 +197,33 @@ pub fn extract(
         &mask_spheres.unwrap_or_default(),
         &mask_boxes.unwrap_or_default(),
     )?;
+    let diagonal = mesh.bounding_box().diagonal();
     let extraction = extract_interruptibly(py, &mesh, &options)?;
-    Lines::from_extraction(py, extraction)
+    Lines::from_extraction(py, extraction, diagonal)
+}
+
+/// Refuses the options that `method` and the estimator that runs would not use, as the
+/// command-line tool does, naming the arguments: `no_gaps` but for YBS, and the options of
+/// another estimator ([`EstimatorArguments::unused`]).
+fn refuse_unused_options(
+    method: Method,
+    estimator: &EstimatorArguments,
+    no_gaps: bool,
+    defaults: &ExtractOptions,
+) -> PyResult<()> {
+    let mut unused = Vec::new();
+    if no_gaps && method != Method::Ybs {
+        unused.push("no_gaps (gap jumping is part of method 'ybs' only)".to_owned());
+    }
+    unused.extend(estimator.unused(defaults.curvature.estimator));
+    if unused.is_empty() {
+        return Ok(());
+    }
+    Err(invalid(format!(
+        "options that method '{}' would not use: {}",
+        name_of(&method, &METHODS),
+        unused.join("; ")
+    )))
 }
 
 /// [`crestline::extract::extract`] without the GIL, checking for signals when each stage
@@ -196,13 +267,6 @@ const METHODS: [(&str, Method); 3] = [
     ("saliency", Method::Saliency),
 ];
 
-/// The estimators by their command-line names.
-pub const ESTIMATORS: [(&str, Estimator); 3] = [
-    ("jet-fit", Estimator::JetFit),
-    ("shape-operator", Estimator::ShapeOperator),
-    ("cubic-fit", Estimator::CubicFit),
-];
-
 /// `threshold`: a number fixes it, "auto" asks for the knee search.
 fn apply_threshold(
     options: &mut ExtractOptions,
@@ -229,6 +293,44 @@ fn apply_threshold(
         ))
     })?;
     options.pipeline.set_threshold(Threshold::Fixed(value));
+    Ok(())
+}
+
+/// `creases`: "auto", "off" or a dihedral angle in degrees strictly between 0 and 180, as
+/// `--creases` takes it.
+///
+/// # Errors
+/// `ValueError` for another string or an angle out of range, `TypeError` for anything else.
+pub fn crease_angle_of(creases: &Bound<'_, PyAny>) -> PyResult<CreaseAngle> {
+    let expected = "creases takes 'auto', 'off' or an angle in degrees between 0 and 180";
+    if let Ok(text) = creases.extract::<String>() {
+        return match text.as_str() {
+            "auto" => Ok(CreaseAngle::Auto),
+            "off" => Ok(CreaseAngle::Off),
+            _ => Err(invalid(format!("{expected}, got '{text}'"))),
+        };
+    }
+    let degrees: f64 = creases
+        .extract()
+        .map_err(|_| wrong_type(format!("{expected}, got {}", type_name(creases))))?;
+    if degrees > 0.0 && degrees < 180.0 {
+        Ok(CreaseAngle::Degrees(degrees))
+    } else {
+        Err(invalid(format!("{expected}, got {degrees}")))
+    }
+}
+
+/// Refuses a region whose factor (its last number) is negative or not finite, before any
+/// work (the command line refuses it as it parses `--mask-sphere` and `--mask-box`).
+fn refuse_negative_factors<const N: usize>(rows: Option<&[[f64; N]]>, what: &str) -> PyResult<()> {
+    for (i, row) in rows.unwrap_or_default().iter().enumerate() {
+        let factor = row[N - 1];
+        if !factor.is_finite() || factor < 0.0 {
+            return Err(invalid(format!(
+                "{what}[{i}]: factor {factor} must be a finite number >= 0"
+            )));
+        }
+    }
     Ok(())
 }
 

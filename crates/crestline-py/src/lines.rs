@@ -17,7 +17,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PySlice, PySliceMethods, PyType};
 
 use crate::arrays::vectors_array;
-use crate::error::{choose, invalid, to_py_err, type_name, wrong_type};
+use crate::error::{check_output_folder, choose, invalid, to_py_err, type_name, wrong_type};
 
 /// Feature lines found on a mesh (or read from a file).
 ///
@@ -36,13 +36,18 @@ pub struct Lines {
 }
 
 impl Lines {
-    /// The lines of an extraction, with its figures.
+    /// The lines of an extraction, with its figures and the bounding-box `diagonal` of the
+    /// mesh it ran on (a figure of `--stats json` too).
     ///
     /// # Errors
     /// When Python cannot build the figures' dict (out of memory).
-    pub fn from_extraction(py: Python<'_>, extraction: Extraction) -> PyResult<Self> {
+    pub fn from_extraction(
+        py: Python<'_>,
+        extraction: Extraction,
+        diagonal: f64,
+    ) -> PyResult<Self> {
         Ok(Lines {
-            stats: Some(stats_dict(py, &extraction.stats)?.unbind()),
+            stats: Some(stats_dict(py, &extraction.stats, diagonal)?.unbind()),
             lines: extraction.lines,
         })
     }
@@ -217,9 +222,11 @@ impl Lines {
         self.lines.total_length()
     }
 
-    /// Figures about the extraction, as `crestline extract --stats json` prints them
-    /// (triangles, singular triangles per family, lines traced and kept, threshold, seconds
-    /// per stage; `jet_fit`: the sample spacing, the radius in spacings, the noise level and
+    /// Figures about the extraction, as `crestline extract --stats json` prints them but for
+    /// the times of reading and writing files (triangles, singular triangles per family,
+    /// lines traced and kept, their total length, the sharp creases (`creases`,
+    /// `crease_length`, `crease_threshold_degrees`: `None` when none were looked for or
+    /// found), the bounding-box `diagonal`, threshold, seconds per stage; `jet_fit`: the sample spacing, the radius in spacings, the noise level and
     /// its standard deviation in spacings and the quartic weight the fit chose, `None` for
     /// the other estimators); `None` for lines read from a file or sliced out of others. A
     /// copy each time.
@@ -242,6 +249,7 @@ impl Lines {
         let format = format
             .map(|name| choose("format", name, &LINES_FORMATS))
             .transpose()?;
+        check_output_folder(&path)?;
         py.detach(|| write_lines(&path, &self.lines, format, PlyEncoding::BinaryLittleEndian))
             .map_err(to_py_err)
     }
@@ -254,7 +262,12 @@ const LINES_FORMATS: [(&str, LinesFormat); 3] = [
     ("json", LinesFormat::Json),
 ];
 
-fn stats_dict<'py>(py: Python<'py>, s: &ExtractStats) -> PyResult<Bound<'py, PyDict>> {
+/// The figures of `--stats json` but for the times of reading and writing files.
+fn stats_dict<'py>(
+    py: Python<'py>,
+    s: &ExtractStats,
+    diagonal: f64,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("triangles", s.triangles)?;
     d.set_item("singular_max", s.trace.singular_max)?;
@@ -265,6 +278,10 @@ fn stats_dict<'py>(py: Python<'py>, s: &ExtractStats) -> PyResult<Bound<'py, PyD
     d.set_item("ridges", s.ridges)?;
     d.set_item("valleys", s.valleys)?;
     d.set_item("total_length", s.total_length)?;
+    d.set_item("creases", s.creases)?;
+    d.set_item("crease_length", s.crease_length)?;
+    d.set_item("crease_threshold_degrees", s.crease_threshold)?;
+    d.set_item("diagonal", diagonal)?;
     d.set_item("threshold", s.threshold)?;
     d.set_item("threshold_auto", s.threshold_is_auto)?;
     d.set_item("gaps_jumped", s.gaps_jumped)?;

@@ -34,7 +34,7 @@ def python_options(args):
     it = iter(args)
     for flag in it:
         name = flag.removeprefix("--").replace("-", "_")
-        if name == "no_gaps":
+        if name in ("no_gaps", "no_noise_adaptation"):
             options[name] = True
             continue
         value = next(it)
@@ -43,9 +43,11 @@ def python_options(args):
                 tuple(float(x) for x in value.split(","))
             )
             continue
-        if name in ("smooth_steps", "rings", "pre_smooth"):
+        if name in ("smooth_steps", "rings", "pre_smooth", "degree"):
             value = int(value)
-        elif name in ("radius", "min_length", "fair", "crease_angle"):
+        elif name in ("radius", "min_length", "fair", "crease_angle", "direction_support"):
+            value = float(value)
+        elif name == "creases" and value not in ("auto", "off"):
             value = float(value)
         elif name == "threshold" and value != "auto":
             value = float(value)
@@ -59,13 +61,7 @@ def cli_lines(cli, mesh, args, tmp_path):
     return json.loads(out.read_text())["lines"]
 
 
-@pytest.mark.parametrize("case, args", CASES, ids=[f"{c} {' '.join(a)}" for c, a in CASES])
-def test_extract_matches_cli(cli, tmp_path, case, args):
-    path = case_path(case)
-    expected = cli_lines(cli, path, args, tmp_path)
-    vertices, faces = crestline.read_mesh(path)
-    lines = crestline.extract(vertices, faces, **python_options(args))
-
+def assert_same_lines(lines, expected):
     assert len(lines) == len(expected)
     assert lines.kinds == [line["kind"] for line in expected]
     assert list(lines.closed) == [line["closed"] for line in expected]
@@ -73,6 +69,54 @@ def test_extract_matches_cli(cli, tmp_path, case, args):
     np.testing.assert_allclose(lines.strengths, [line["strength"] for line in expected], rtol=1e-9)
     for line, want in zip(lines, expected):
         np.testing.assert_allclose(line.points, np.array(want["points"]).reshape(-1, 3), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("case, args", CASES, ids=[f"{c} {' '.join(a)}" for c, a in CASES])
+def test_extract_matches_cli(cli, tmp_path, case, args):
+    path = case_path(case)
+    expected = cli_lines(cli, path, args, tmp_path)
+    vertices, faces = crestline.read_mesh(path)
+    assert_same_lines(crestline.extract(vertices, faces, **python_options(args)), expected)
+
+
+# The options of `crestline extract` that the cases above leave out, on a CAD part with
+# sharp creases.
+FANDISK_ARGS = [
+    ["--degree", "3", "--no-noise-adaptation"],
+    ["--creases", "off"],
+    ["--creases", "30", "--radius", "3"],
+    ["--method", "ybs", "--creases", "auto"],
+    ["--estimator", "shape-operator", "--direction-support", "0.2"],
+]
+
+
+@pytest.mark.parametrize("args", FANDISK_ARGS, ids=[" ".join(a) for a in FANDISK_ARGS])
+def test_extract_options_match_cli_on_a_cad_part(cli, tmp_path, fandisk, args):
+    expected = cli_lines(cli, FANDISK, args, tmp_path)
+    assert_same_lines(crestline.extract(*fandisk, **python_options(args)), expected)
+
+
+def test_stats_match_cli(cli, tmp_path, fandisk):
+    """`Lines.stats` holds the figures of `--stats json`, but for reading and writing files."""
+    printed = subprocess.run(
+        [str(cli), "extract", str(FANDISK), "-o", str(tmp_path / "lines.obj"), "--stats=json", "-q"],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    expected = json.loads(printed)
+    stats = crestline.extract(*fandisk).stats
+    file_times = {"load_seconds", "write_seconds"}
+    assert stats.keys() == expected.keys() - file_times
+    assert stats["stage_seconds"].keys() == expected["stage_seconds"].keys() - {"load", "write"}
+    assert expected["creases"] > 0
+    for key, value in expected.items():
+        if key in file_times or key in ("stage_seconds", "jet_fit"):
+            continue
+        if isinstance(value, float):
+            assert stats[key] == pytest.approx(value, rel=1e-12), key
+        else:
+            assert stats[key] == value, key
 
 
 @pytest.mark.parametrize("case", ["ring/reg5k", "bumpy/noisy20k", "ovoid/reg5k"])
@@ -124,6 +168,44 @@ def test_curvature_matches_cli(cli, tmp_path, estimator):
     for name in ("dir_max", "dir_min"):
         want = np.array([[float(r[f"{name}_{c}"]) for c in "xyz"] for r in rows])
         np.testing.assert_allclose(fields[name], want, rtol=1e-12, atol=1e-12, err_msg=name)
+
+
+def cli_fields(cli, path, args, tmp_path):
+    """The fields `crestline curvature --csv` writes, by column."""
+    out = tmp_path / "fields.csv"
+    subprocess.run(
+        [str(cli), "curvature", str(path), "-o", str(out), "--csv", *args],
+        check=True,
+        capture_output=True,
+    )
+    with open(out) as f:
+        rows = list(csv.DictReader(f))
+    return {name: np.array([float(r[name]) for r in rows]) for name in rows[0]}
+
+
+@pytest.mark.parametrize(
+    "args, options",
+    [
+        ([], {}),
+        (["--creases", "off"], {"creases": "off"}),
+        (["--creases", "30"], {"creases": 30.0}),
+        (
+            ["--estimator", "shape-operator", "--direction-support", "0.2"],
+            {"estimator": "shape-operator", "direction_support": 0.2},
+        ),
+    ],
+    ids=["defaults", "creases off", "creases 30", "direction support"],
+)
+def test_curvature_matches_cli_on_a_cad_part(cli, tmp_path, fandisk, args, options):
+    # By default the jet fit does not reach across fandisk's sharp creases, as on the command
+    # line; with creases "off" it does.
+    want = cli_fields(cli, FANDISK, args, tmp_path)
+    fields = crestline.curvature(*fandisk, **options)
+    for name in ("k_max", "k_min", "e_max", "e_min"):
+        np.testing.assert_allclose(fields[name], want[name], rtol=1e-12, atol=1e-12, err_msg=name)
+    for name in ("dir_max", "dir_min"):
+        for i, c in enumerate("xyz"):
+            np.testing.assert_allclose(fields[name][:, i], want[f"{name}_{c}"], rtol=1e-12, atol=1e-12)
 
 
 def test_rings_select_the_cubic_fit_as_on_the_command_line(cli, tmp_path):

@@ -109,7 +109,12 @@ def test_bad_arrays_raise_value_error(vertices, faces, message):
         (dict(radius=-1.0), "radius must be above 0 and at most 10"),
         (dict(radius=float("nan")), "radius must be above 0 and at most 10"),
         (dict(radius=1e6), "radius must be above 0 and at most 10"),
-        (dict(rings=9), "ring"),
+        (dict(rings=9), "^rings must be a whole number from 1 to 8, got 9$"),
+        (dict(rings=0), "^rings must be a whole number from 1 to 8, got 0$"),
+        (dict(creases="sometimes"), "creases takes 'auto', 'off' or an angle in degrees"),
+        (dict(creases=180.0), "creases takes 'auto', 'off' or an angle in degrees between 0 and 180"),
+        (dict(creases=float("nan")), "creases takes"),
+        (dict(degree=5), "degree must be 3 or 4"),
         (dict(smooth_time=-1.0, smooth_steps=2), "invalid input"),
         (dict(mask=[1.0, 2.0]), r"mask must have shape \(4,\)"),
         (dict(mask=[1.0, -1.0, 1.0, 1.0], smooth_steps=2), "invalid input"),
@@ -160,9 +165,12 @@ def test_arrays_of_python_numbers_and_empty_arrays_of_any_dtype():
     # Object arrays of numbers are read by their elements.
     fields = crestline.curvature(vertices.astype(object), faces.astype(object))
     np.testing.assert_array_equal(fields["k_max"], reference["k_max"])
-    # Empty is empty whatever the dtype numpy gave it.
+    # Empty is empty whatever the dtype numpy gave it (and no triangles are nothing to
+    # extract from, as on the command line).
     for no_faces in ([], np.zeros((0, 3)), np.zeros((0, 3), dtype=str)):
-        assert len(crestline.extract(vertices, no_faces)) == 0
+        assert crestline.curvature(vertices, no_faces)["k_max"].shape == (4,)
+        with pytest.raises(ValueError, match="no triangles"):
+            crestline.extract(vertices, no_faces)
 
 
 @pytest.mark.parametrize(
@@ -269,6 +277,29 @@ def test_mask_regions_take_any_sequence(fandisk):
         crestline.extract(vertices, faces, mask_boxes=[box, box[:6]])
 
 
+def test_a_smoothing_option_makes_the_smoothing_run_on_a_clean_mesh(fandisk):
+    # The jet fit finds fandisk clean: by default no extremality smoothing runs there. A
+    # smoothing option given runs the default steps, as `crestline extract` does.
+    vertices, faces = fandisk
+    plain = crestline.extract(vertices, faces)
+    two_steps = crestline.extract(vertices, faces, smooth_steps=2)
+    assert not np.array_equal(plain.points, two_steps.points)
+    timed = crestline.extract(vertices, faces, smooth_time=1.0)
+    np.testing.assert_array_equal(timed.points, two_steps.points)
+    with pytest.raises(ValueError, match="smooth_time: .* does not run with smooth_steps=0"):
+        crestline.extract(vertices, faces, smooth_steps=0, smooth_time=1.0)
+
+
+def test_negative_mask_factors_are_refused_before_the_work(fandisk):
+    vertices, faces = fandisk
+    with pytest.raises(ValueError, match=r"mask_spheres\[0\]: factor -1.* >= 0"):
+        crestline.extract(vertices, faces, mask_spheres=[(0, 0, 0, 1, -1)])
+    with pytest.raises(ValueError, match=r"mask_boxes\[1\]: factor NaN.* >= 0"):
+        crestline.extract(
+            vertices, faces, mask_boxes=[(0, 0, 0, 1, 1, 1, 1), (0, 0, 0, 1, 1, 1, float("nan"))]
+        )
+
+
 def test_bad_options_of_the_other_functions():
     vertices, faces = tetrahedron()
     with pytest.raises(ValueError, match="estimator must be one of"):
@@ -289,20 +320,37 @@ def test_bad_options_of_the_other_functions():
 
 def test_small_and_empty_meshes_do_not_crash():
     vertices, faces = tetrahedron()
-    for args in [
-        (vertices, faces),
-        (vertices, faces[:1]),
-        (vertices, np.zeros((0, 3), dtype=np.int64)),
-        (np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)),
-        ([], []),
+    for args, has_triangles in [
+        ((vertices, faces), True),
+        ((vertices, faces[:1]), True),
+        ((vertices, np.zeros((0, 3), dtype=np.int64)), False),
+        ((np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)), False),
+        (([], []), False),
         # Degenerate triangles only: dropped, leaving nothing.
-        (vertices, [[0, 0, 1], [1, 2, 2]]),
+        ((vertices, [[0, 0, 1], [1, 2, 2]]), False),
     ]:
         for method in ("hpw", "ybs", "saliency"):
-            lines = crestline.extract(*args, method=method)
-            assert len(lines) == 0
+            if has_triangles:
+                assert len(crestline.extract(*args, method=method)) == 0
+            else:
+                with pytest.raises(ValueError, match="no triangles"):
+                    crestline.extract(*args, method=method)
         fields = crestline.curvature(*args)
         assert fields["k_max"].shape == (len(args[0]),)
+
+
+@pytest.mark.parametrize(
+    "vertices, faces, message",
+    [
+        (tetrahedron()[0], np.zeros((0, 3), dtype=np.int64), r"no triangles \(4 vertices, 0 degenerate"),
+        ([], [], r"no triangles \(0 vertices"),
+        (tetrahedron()[0], [[0, 0, 1], [1, 2, 2]], r"no triangles \(4 vertices, 2 degenerate triangles dropped\)"),
+    ],
+)
+def test_extract_refuses_a_mesh_without_triangles(vertices, faces, message):
+    # As `crestline extract` does: nothing to work on is an error, not "0 lines".
+    with pytest.raises(ValueError, match=message + ".*nothing to work on"):
+        crestline.extract(vertices, faces)
 
 
 def test_bad_files(tmp_path):
@@ -323,6 +371,22 @@ def test_bad_files(tmp_path):
         lines.write(tmp_path / "no" / "such" / "folder" / "lines.obj")
 
 
+def test_outputs_in_a_missing_folder_name_the_folder(tmp_path, fandisk):
+    # The command line's message, not the name of the temporary file written first.
+    vertices, faces = fandisk
+    lines = crestline.extract(vertices, faces)
+    folder = tmp_path / "no" / "such"
+    for write in (
+        lambda: lines.write(folder / "lines.obj"),
+        lambda: crestline.render(vertices, faces, lines, path=folder / "picture.png"),
+    ):
+        with pytest.raises(FileNotFoundError) as raised:
+            write()
+        message = str(raised.value)
+        assert f"the folder {folder} does not exist" in message
+        assert ".part" not in message and ".crestline-" not in message
+
+
 @pytest.mark.parametrize(
     "options",
     [
@@ -335,6 +399,76 @@ def test_bad_files(tmp_path):
 def test_options_of_another_estimator_are_refused(fandisk, options):
     with pytest.raises(ValueError, match="would not use"):
         crestline.curvature(*fandisk, **options)
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        (
+            {"estimator": "shape-operator", "creases": "auto"},
+            "options that estimator 'shape-operator' would not use: creases",
+        ),
+        ({"direction_support": 0.3}, "direction_support .it applies to the shape-operator estimator"),
+        (
+            {"estimator": "jet-fit", "rings": 2},
+            r"^options that estimator 'jet-fit' would not use: rings \(it applies to the cubic-fit "
+            r"estimator; this run uses jet-fit\)$",
+        ),
+    ],
+)
+def test_curvature_names_the_unused_options(fandisk, options, message):
+    with pytest.raises(ValueError, match=message):
+        crestline.curvature(*fandisk, **options)
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        (
+            {"estimator": "shape-operator", "radius": 3},
+            r"^options that method 'hpw' would not use: radius \(it applies to the jet-fit "
+            r"estimator; this run uses shape-operator\)$",
+        ),
+        ({"direction_support": 0.3}, "direction_support .it applies to the shape-operator estimator; this run uses jet-fit"),
+        ({"rings": 2, "estimator": "jet-fit"}, "rings .it applies to the cubic-fit estimator; this run uses jet-fit"),
+        ({"rings": 2, "degree": 3}, "degree .it applies to the jet-fit estimator; this run uses cubic-fit"),
+        ({"estimator": "cubic-fit", "no_noise_adaptation": True}, "no_noise_adaptation"),
+        ({"no_gaps": True}, r"^options that method 'hpw' would not use: no_gaps \(gap jumping is part of method 'ybs' only\)$"),
+        ({"method": "saliency", "no_gaps": True}, "options that method 'saliency' would not use: no_gaps"),
+        (
+            {"no_gaps": True, "radius": 3, "estimator": "cubic-fit"},
+            "would not use: no_gaps .gap jumping is part of method 'ybs' only.; radius .it applies",
+        ),
+    ],
+)
+def test_extract_refuses_options_the_run_would_not_use(fandisk, options, message):
+    # As `crestline extract` refuses them ("options that --method hpw would not use"),
+    # before any work.
+    with pytest.raises(ValueError, match=message):
+        crestline.extract(*fandisk, **options)
+
+
+def test_extract_takes_the_jet_fit_and_crease_options(fandisk):
+    vertices, faces = fandisk
+    default = crestline.extract(vertices, faces)
+    assert default.stats["creases"] > 0
+    assert crestline.extract(vertices, faces, creases="off").stats["creases"] == 0
+    assert crestline.extract(vertices, faces, creases="auto").stats["creases"] == default.stats["creases"]
+    steep = crestline.extract(vertices, faces, creases=60)
+    assert steep.stats["crease_threshold_degrees"] == pytest.approx(60)
+    other = crestline.extract(vertices, faces, degree=3, no_noise_adaptation=True)
+    assert other.stats["jet_fit"]["quartic_weight"] == 0
+    for estimator in (None, "jet-fit"):
+        crestline.extract(vertices, faces, estimator=estimator, radius=3, degree=4)
+    crestline.extract(vertices, faces, method="ybs", no_gaps=True)
+    crestline.extract(vertices, faces, estimator="shape-operator", direction_support=0.2)
+    crestline.extract(vertices, faces, rings=2)
+
+
+def test_docstrings_name_the_command_line_flags():
+    assert "--mask-sphere" in crestline.extract.__doc__
+    assert "--mask-box" in crestline.extract.__doc__
+    assert "--faces" in crestline.simplify.__doc__
 
 
 @pytest.mark.parametrize(

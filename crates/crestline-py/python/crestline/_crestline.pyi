@@ -12,6 +12,7 @@ PathLike = Union[str, "os.PathLike[str]"]
 Method = Literal["hpw", "ybs", "saliency"]
 Estimator = Literal["jet-fit", "shape-operator", "cubic-fit"]
 LinesFormat = Literal["obj", "ply", "json"]
+Creases = Union[Literal["auto", "off"], float]
 
 class Line:
     """One feature line."""
@@ -73,8 +74,9 @@ class Lines:
         """The sum of the lengths."""
     @property
     def stats(self) -> Optional[dict]:
-        """Figures about the extraction (as ``crestline extract --stats json``), a copy each time;
-        None for lines read from a file or sliced out of others."""
+        """Figures about the extraction (as ``crestline extract --stats json``, without the times
+        of reading and writing files), a copy each time; None for lines read from a file or
+        sliced out of others."""
     def write(self, path: PathLike, format: Optional[LinesFormat] = None) -> None:
         """Writes the lines as OBJ, PLY (binary) or JSON, chosen by ``format`` or the extension."""
 
@@ -103,11 +105,14 @@ def extract(
     smooth_steps: Optional[int] = None,
     smooth_time: Optional[float] = None,
     crease_angle: Optional[float] = None,
+    creases: Optional[Creases] = None,
     direction_support: Optional[float] = None,
     fair: Optional[float] = None,
     pre_smooth: Optional[int] = None,
     estimator: Optional[Estimator] = None,
     radius: Optional[float] = None,
+    degree: Optional[int] = None,
+    no_noise_adaptation: bool = False,
     rings: Optional[int] = None,
     mask: Optional[npt.ArrayLike] = None,
     mask_spheres: Optional[Union[Sequence[Sequence[float]], npt.ArrayLike]] = None,
@@ -119,7 +124,9 @@ def extract(
 ) -> Lines:
     """Finds the ridges and valleys of the mesh (vertices, faces).
 
-    Options and defaults are those of ``crestline extract``; None means the method's default:
+    Options and defaults are those of ``crestline extract``, each named as its flag with ``-``
+    written ``_`` (``mask_spheres`` and ``mask_boxes`` hold the repeated ``--mask-sphere`` and
+    ``--mask-box``); None means the method's default:
 
     - method: "hpw" (default), "ybs" or "saliency".
     - threshold: a number or "auto". HPW: strength T, default 1; YBS and saliency: "auto".
@@ -127,15 +134,19 @@ def extract(
     - smooth_steps (default 2, run on noisy surfaces; a number always runs them), smooth_time
       (default 1, relative to the squared mean edge length).
     - crease_angle: degrees (default 0.3 rad, about 17.2; 0 with no_twicing is HPW's plain smoothing).
-    - direction_support: default 0.5 (0 is the paper's shape operator).
+    - creases: sharp creases, "auto" (default: above the gap in the histogram of dihedral
+      angles, none on scans), "off", or a dihedral angle in degrees.
     - fair: fairing tolerance as a fraction of the diagonal (off).
     - pre_smooth: mean-curvature-flow steps first (off).
-    - estimator: "jet-fit" (default), "shape-operator" or "cubic-fit".
-    - radius: the jet fit's disc radius in sample spacings (default 2.5).
-    - rings: the cubic fit's k-ring (1 to 8); selects the cubic fit unless estimator is given.
+    - estimator: "jet-fit" (default), "shape-operator" or "cubic-fit". Options of another
+      estimator than the one that runs raise ValueError, as on the command line:
+    - radius, degree, no_noise_adaptation (jet fit): the disc radius in sample spacings
+      (default 2.5, grown on noisy meshes unless no_noise_adaptation), the degree (3 or 4, default 4).
+    - rings (cubic fit): the k-ring (1 to 8); selects the cubic fit unless estimator is given.
+    - direction_support (shape operator): default 0.5 (0 is the paper's operator).
     - mask, mask_spheres, mask_boxes: per-vertex diffusion factors and regions scaling them
       (rows (x, y, z, r, factor) and (x0, y0, z0, x1, y1, z1, factor): tuples, lists or a numpy array).
-    - no_gaps: turn off YBS's gap jumping.
+    - no_gaps: turn off YBS's gap jumping (method "ybs" only; ValueError otherwise).
     - keep_orientation: keep the winding (default: triangles wound against their neighbours, then
       closed surfaces facing inward, are reversed).
     - no_twicing: plain extremality smoothing as HPW's (default: twiced, the residual smoothed
@@ -145,7 +156,8 @@ def extract(
 
     Raises TypeError for arguments of the wrong type (a string or floats where vertex indices are
     needed, a float where a count is), ValueError for bad values (shape, NaN, index out of range,
-    a negative count) or options. The GIL is released during the work; Ctrl-C raises
+    a negative count, a mesh without triangles) or options (out of range, or unused by the method
+    and estimator that run). The GIL is released during the work; Ctrl-C raises
     KeyboardInterrupt when the stage running ends.
     """
 
@@ -158,6 +170,8 @@ def curvature(
     radius: Optional[float] = None,
     degree: Optional[int] = None,
     no_noise_adaptation: bool = False,
+    direction_support: Optional[float] = None,
+    creases: Optional[Creases] = None,
     keep_orientation: bool = False,
     no_weld: bool = False,
 ) -> dict[str, npt.NDArray[np.float64]]:
@@ -166,9 +180,11 @@ def curvature(
     One row per vertex given; vertices at the same position are estimated as one (welded)
     unless no_weld.
 
-    Defaults as ``crestline curvature``: the jet fit (the cubic fit when rings is given),
-    rings 1, radius 2.5, degree 4. An option of another estimator than the one that runs
-    raises ValueError, as does a negative rings or degree.
+    Options named and defaulted as the flags of ``crestline curvature``: the jet fit (the cubic
+    fit when rings is given), rings 1, radius 2.5, degree 4, direction_support 0.5 (shape
+    operator), creases "auto" (the jet fit does not reach across the sharp creases found above
+    the gap in the histogram of dihedral angles; "off", or an angle in degrees). An option of
+    another estimator than the one that runs raises ValueError, as does a negative rings or degree.
     """
 
 def simplify(
@@ -183,7 +199,8 @@ def simplify(
     keep_orientation: bool = False,
     no_weld: bool = False,
 ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
-    """Feature-guided QEM simplification (YBS eq. 7): ratio 0.1, eta 1, eps 0.1 by default.
+    """Feature-guided QEM simplification (YBS eq. 7): ratio 0.1, eta 1, eps 0.1 by default;
+    target_faces is the command line's ``--faces``.
 
     Vertices at one position are made one first unless no_weld.
 
