@@ -19,7 +19,10 @@
 //!    the angles is empty. The search looks for that gap on a logarithmic scale (so that it
 //!    means the same at 2° and at 40°), with each edge counted by its length (so that it does
 //!    not depend on how finely the faces are cut). A scanned or smooth mesh has a continuous
-//!    spread of angles, no gap, and then no creases.
+//!    spread of angles, no gap, and then no creases. When none of the edges below the gap
+//!    is a tessellation edge (step 3), the mesh has no curved faces: all its faces are
+//!    planes and every edge above [`FLAT_ANGLE`] is a crease of the design (a roof ridge of
+//!    5° on a block whose other edges turn by 90° is one edge, no population of its own).
 //! 3. *Tessellation edges* ([`is_facet_edge`]): a coarse tessellation of a cylinder or a fillet
 //!    turns by the same few degrees at every edge across the surface, and can stand above the
 //!    gap on its own (a cylinder exported as 54 facets has only flat edges and 6.7° edges). Such
@@ -260,7 +263,8 @@ pub fn find_creases(mesh: &TriMesh, options: &CreaseOptions) -> Result<Creases> 
         CreaseAngle::Auto => {
             let angles = dihedral_angles(mesh);
             let lengths = edge_lengths(mesh);
-            let t = gap_threshold(&angles, &lengths);
+            let t =
+                gap_threshold(&angles, &lengths).map(|t| polyhedral_threshold(mesh, &angles, t));
             return Ok(creases_above(mesh, &angles, t, options));
         }
     };
@@ -269,6 +273,27 @@ pub fn find_creases(mesh: &TriMesh, options: &CreaseOptions) -> Result<Creases> 
     }
     let angles = dihedral_angles(mesh);
     Ok(creases_above(mesh, &angles, threshold, options))
+}
+
+/// The automatic threshold `t` (radians), or [`FLAT_ANGLE`] when none of the edges between
+/// the two (the low side of the gap) is a tessellation edge ([`is_facet_edge`]): the mesh
+/// has no curved face then, only planes, and every edge that turns is a crease of the
+/// design (module docs, step 2).
+fn polyhedral_threshold(mesh: &TriMesh, angles: &[f64], t: f64) -> f64 {
+    let flat = FLAT_ANGLE.to_radians();
+    let diagonal = mesh.bounding_box().diagonal();
+    let mut below = (0..angles.len() as u32).filter(|&e| {
+        let a = angles[e as usize].abs();
+        a > flat && a <= t
+    });
+    let tessellated = below
+        .clone()
+        .any(|e| is_facet_edge(mesh, angles, e, diagonal));
+    if below.next().is_some() && !tessellated {
+        flat
+    } else {
+        t
+    }
 }
 
 fn edge_lengths(mesh: &TriMesh) -> Vec<f64> {

@@ -41,6 +41,63 @@ fn cube_edges_are_twelve_convex_creases_between_corners() {
     assert!(t > FLAT_ANGLE && t < 90.0, "threshold {t}");
 }
 
+/// A block 10 × 4 × 2 with a roof whose two planes meet at a ridge turning by `ridge`
+/// degrees, every face split into triangles as an exporter does (10 vertices, 24 edges).
+fn roofed_block(ridge: f64) -> TriMesh {
+    let rise = 2.0 * (ridge.to_radians() / 2.0).tan();
+    let p = vec![
+        [0.0, 0.0, 0.0],
+        [10.0, 0.0, 0.0],
+        [10.0, 4.0, 0.0],
+        [0.0, 4.0, 0.0],
+        [0.0, 0.0, 2.0],
+        [10.0, 0.0, 2.0],
+        [10.0, 4.0, 2.0],
+        [0.0, 4.0, 2.0],
+        [0.0, 2.0, 2.0 + rise],
+        [10.0, 2.0, 2.0 + rise],
+    ];
+    let faces = vec![
+        [0, 2, 1],
+        [0, 3, 2],
+        [0, 1, 5],
+        [0, 5, 4],
+        [2, 3, 7],
+        [2, 7, 6],
+        [0, 4, 8],
+        [0, 8, 7],
+        [0, 7, 3],
+        [1, 2, 6],
+        [1, 6, 9],
+        [1, 9, 5],
+        [4, 5, 9],
+        [4, 9, 8],
+        [8, 9, 6],
+        [8, 6, 7],
+    ];
+    TriMesh::from_arrays(p, faces).unwrap()
+}
+
+#[test]
+fn a_shallow_crease_of_a_polyhedral_part_is_a_crease() {
+    // One edge at 5° against fourteen at about 90° and nine flat ones: the gap search puts
+    // the 5° edge with the flat ones (20.75° before), but no edge below the gap is a
+    // tessellation edge, so the mesh has planar faces only and the ridge is a crease.
+    let mesh = roofed_block(5.0);
+    let angles = dihedral_angles(&mesh);
+    let ridge = mesh.topology().edge_between(8, 9).unwrap();
+    assert!((angles[ridge as usize].to_degrees() - 5.0).abs() < 1e-9);
+    let creases = find_creases(&mesh, &CreaseOptions::DEFAULT).unwrap();
+    assert!(
+        creases.edges[ridge as usize],
+        "threshold {:?}",
+        creases.threshold
+    );
+    let turning = angles.iter().filter(|a| a.abs() > 1e-9).count();
+    assert_eq!(turning, 15);
+    assert_eq!(creases.edges.iter().filter(|&&e| e).count(), turning);
+}
+
 #[test]
 fn inward_cube_has_concave_creases() {
     let mesh = cube();
