@@ -86,8 +86,26 @@ fn runs_from(t: [u32; 3], a: u32, b: u32) -> bool {
 /// its curved ones (the hex nut of `../shared/quality`: nothing from 1° to 1.5°, cone facets
 /// above) and between creases of different angles; the gap between the tessellation and the
 /// creases is the wide one. So the lowest gap at least half as wide (on the log scale) as the
-/// widest one wins.
+/// widest one wins ([`gap_thresholds`] lists them all, lowest first).
 pub fn gap_threshold(angles: &[f64], lengths: &[f64]) -> Option<f64> {
+    gap_thresholds(angles, lengths).first().map(|g| g.threshold)
+}
+
+/// A stretch of the histogram of dihedral angles without edges ([`gap_thresholds`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gap {
+    /// The threshold it gives (radians): the geometric middle of its first extent at least
+    /// half as wide as the widest gap of the mesh.
+    pub threshold: f64,
+    /// Where it starts (radians): the union of its overlapping extents runs from here …
+    pub from: f64,
+    /// … to here.
+    pub to: f64,
+}
+
+/// The gaps of [`gap_threshold`]'s histogram that are at least half as wide as the widest
+/// one, lowest first (overlapping extents are one gap); empty when there is no gap.
+pub fn gap_thresholds(angles: &[f64], lengths: &[f64]) -> Vec<Gap> {
     let floor = FLAT_ANGLE.to_radians().ln();
     let step = std::f64::consts::LN_2 / BINS_PER_OCTAVE;
     let bins = ((std::f64::consts::PI.ln() - floor) / step).ceil() as usize;
@@ -144,10 +162,35 @@ pub fn gap_threshold(angles: &[f64], lengths: &[f64]) -> Option<f64> {
             end.map(|j| (i, j))
         })
         .collect();
-    let widest = gaps.iter().map(|(i, j)| j - i).max()?;
-    gaps.iter()
-        .find(|(i, j)| 2 * (j - i) >= widest)
-        .map(|(i, j)| (floor + step * (i + j) as f64 / 2.0).exp())
+    let Some(widest) = gaps.iter().map(|(i, j)| j - i).max() else {
+        return Vec::new();
+    };
+    let angle = |bin: f64| (floor + step * bin).exp();
+    // Overlapping extents (in order of their starts) joined into one gap each.
+    let mut joined: Vec<(usize, usize, Option<(usize, usize)>)> = Vec::new();
+    for &(i, j) in &gaps {
+        let wide = 2 * (j - i) >= widest;
+        match joined.last_mut() {
+            Some((_, end, chosen)) if i < *end => {
+                *end = (*end).max(j);
+                if chosen.is_none() && wide {
+                    *chosen = Some((i, j));
+                }
+            }
+            _ => joined.push((i, j, wide.then_some((i, j)))),
+        }
+    }
+    joined
+        .into_iter()
+        .filter_map(|(start, end, chosen)| {
+            let (i, j) = chosen?;
+            Some(Gap {
+                threshold: angle((i + j) as f64 / 2.0),
+                from: angle(start as f64),
+                to: angle(end as f64),
+            })
+        })
+        .collect()
 }
 
 /// True when edge `e` looks like one edge of the tessellation of a smooth surface: it turns

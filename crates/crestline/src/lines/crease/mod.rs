@@ -58,7 +58,8 @@ mod tests;
 
 pub use chain::{chain_crease_edges, cone_points, drop_stray_curves};
 pub use detect::{
-    FLAT_ANGLE, MAX_CHORD_DEVIATION, MAX_FACET_TURN, dihedral_angles, gap_threshold, is_facet_edge,
+    FLAT_ANGLE, Gap, MAX_CHORD_DEVIATION, MAX_FACET_TURN, dihedral_angles, gap_threshold,
+    gap_thresholds, is_facet_edge,
 };
 
 /// How the crease threshold is chosen.
@@ -264,7 +265,7 @@ pub fn find_creases(mesh: &TriMesh, options: &CreaseOptions) -> Result<Creases> 
             let angles = dihedral_angles(mesh);
             let lengths = edge_lengths(mesh);
             let t =
-                gap_threshold(&angles, &lengths).map(|t| polyhedral_threshold(mesh, &angles, t));
+                crease_gap(mesh, &angles, &lengths).map(|t| polyhedral_threshold(mesh, &angles, t));
             return Ok(creases_above(mesh, &angles, t, options));
         }
     };
@@ -273,6 +274,33 @@ pub fn find_creases(mesh: &TriMesh, options: &CreaseOptions) -> Result<Creases> 
     }
     let angles = dihedral_angles(mesh);
     Ok(creases_above(mesh, &angles, threshold, options))
+}
+
+/// The automatic threshold (radians): that of the lowest of the [`gap_thresholds`] above which
+/// the edges up to the next gap are not mostly (by length) tessellation edges ([`is_facet_edge`]):
+/// a gap inside the spread of a tessellation's angles is not the one below the creases (the
+/// facets of a chamfer's cone and a hole's fillet, 1° to 15°, left a thin stretch about 2°
+/// on a bracket, above which every facet of the cone was taken for a crease). `None` when
+/// there is no gap or only tessellation edges above every gap.
+fn crease_gap(mesh: &TriMesh, angles: &[f64], lengths: &[f64]) -> Option<f64> {
+    let gaps = gap_thresholds(angles, lengths);
+    let diagonal = mesh.bounding_box().diagonal();
+    (0..gaps.len())
+        .find(|&k| {
+            let (low, high) = (gaps[k].to, gaps.get(k + 1).map(|g| g.from));
+            let (mut facets, mut all) = (0.0, 0.0);
+            for (e, (&a, &l)) in angles.iter().zip(lengths).enumerate() {
+                let a = a.abs();
+                if a > low && high.is_none_or(|h| a <= h) {
+                    all += l;
+                    if is_facet_edge(mesh, angles, e as u32, diagonal) {
+                        facets += l;
+                    }
+                }
+            }
+            facets < 0.5 * all
+        })
+        .map(|k| gaps[k].threshold)
 }
 
 /// The automatic threshold `t` (radians), or [`FLAT_ANGLE`] when none of the edges between
