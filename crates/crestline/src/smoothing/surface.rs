@@ -77,7 +77,19 @@ pub fn smooth_surface(mesh: &TriMesh, options: &SurfaceSmoothing) -> Result<TriM
     let mut xyz: [Vec<f64>; 3] =
         std::array::from_fn(|k| mesh.positions().iter().map(|p| p[k]).collect());
     let mut operator: Option<DiffusionOperator<'_>> = None;
-    for _ in 0..options.steps {
+    // After the first step a failure is the flow's doing: curvature flow shrinks a surface
+    // and pinches its thin parts, and long enough it leaves triangles without area.
+    let collapsed = |step: usize, e: Error| -> Error {
+        if step == 0 {
+            return e;
+        }
+        Error::Solver(format!(
+            "surface pre-smoothing failed at step {} of {}: the flow has collapsed the surface              (triangles of no area) after {step} steps; use fewer steps or a smaller time step              ({e})",
+            step + 1,
+            options.steps
+        ))
+    };
+    for step in 0..options.steps {
         let positions = || -> Vec<Vec3> {
             (0..n)
                 .map(|i| Vec3::new(xyz[0][i], xyz[1][i], xyz[2][i]))
@@ -99,13 +111,15 @@ pub fn smooth_surface(mesh: &TriMesh, options: &SurfaceSmoothing) -> Result<TriM
             // mass of the step it was built for, as the implicit scheme requires.
             Some(op) if options.flow == Flow::MeanCurvature => {
                 let (weights, mass) = cotan_weights_and_mass(mesh, &positions());
-                op.update(weights, mass, time)?;
+                op.update(weights, mass, time)
+                    .map_err(|e| collapsed(step, e))?;
             }
             Some(_) => {}
         }
         if let Some(op) = &operator {
             let [x, y, z] = &mut xyz;
-            op.step(&mut [x.as_mut_slice(), y, z])?;
+            op.step(&mut [x.as_mut_slice(), y, z])
+                .map_err(|e| collapsed(step, e))?;
         }
     }
     let mut positions: Vec<Vec3> = (0..n)
@@ -201,6 +215,21 @@ mod tests {
                 assert!((a - b).norm() < 1e-10, "{flow:?}: {a} vs {b}");
             }
         }
+    }
+
+    #[test]
+    fn a_collapsed_surface_is_named_in_the_error() {
+        // A small bump on a square sheet under long curvature flow: its boundary stays, the
+        // rest shrinks until triangles lose their area.
+        let bump = |x: f64, y: f64| 0.3 * (-(x * x + y * y) / 0.05).exp();
+        let mesh = crate::shapes::height_field(bump, [-1.0, 1.0], [-1.0, 1.0], 40, 40);
+        let options = SurfaceSmoothing {
+            steps: 60,
+            ..SurfaceSmoothing::default()
+        };
+        let message = smooth_surface(&mesh, &options).unwrap_err().to_string();
+        assert!(message.contains("collapsed the surface"), "{message}");
+        assert!(message.contains("use fewer steps"), "{message}");
     }
 
     #[test]
