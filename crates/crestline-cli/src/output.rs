@@ -40,17 +40,7 @@ pub fn to_path_or_stdout(
 /// mesh again, may write in place.
 pub fn check_output(output: &Path, inputs: &[Option<&Path>]) -> Result<()> {
     if !is_dash(output) {
-        let folder = output
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        if !folder.is_dir() {
-            bail!(
-                "{}: the folder {} does not exist",
-                output.display(),
-                folder.display()
-            );
-        }
+        crestline::io::check_output_folder(output)?;
     }
     for input in inputs.iter().flatten() {
         if !is_dash(output) && !is_dash(input) && same_file(output, input) {

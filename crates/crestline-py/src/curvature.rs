@@ -2,7 +2,10 @@
 //! options `curvature` and `extract` share ([`EstimatorArguments`]).
 
 use crestline::curvature::cubic_fit::MAX_RINGS;
-use crestline::curvature::{CurvatureOptions, Estimator, estimate_split};
+use crestline::curvature::{
+    CurvatureOptions, Estimator, EstimatorOption, EstimatorSelection, estimate_split,
+    select_estimator,
+};
 use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -120,6 +123,17 @@ pub const ESTIMATORS: [(&str, Estimator); 3] = [
     ("cubic-fit", Estimator::CubicFit),
 ];
 
+/// The keyword of an estimator option.
+fn keyword(option: EstimatorOption) -> &'static str {
+    match option {
+        EstimatorOption::Radius => "radius",
+        EstimatorOption::Degree => "degree",
+        EstimatorOption::NoNoiseAdaptation => "no_noise_adaptation",
+        EstimatorOption::Rings => "rings",
+        EstimatorOption::DirectionSupport => "direction_support",
+    }
+}
+
 /// The curvature estimator and its options as `extract` and `curvature` take them (the
 /// command-line tool's estimator flags): each means the same in both, and the options of an
 /// estimator that does not run are refused ([`EstimatorArguments::unused`]).
@@ -170,41 +184,46 @@ impl EstimatorArguments {
         })
     }
 
+    /// The estimator options given, as the library names them.
+    fn given(&self) -> Vec<EstimatorOption> {
+        [
+            (self.radius.is_some(), EstimatorOption::Radius),
+            (self.degree.is_some(), EstimatorOption::Degree),
+            (self.no_noise_adaptation, EstimatorOption::NoNoiseAdaptation),
+            (self.rings.is_some(), EstimatorOption::Rings),
+            (
+                self.direction_support.is_some(),
+                EstimatorOption::DirectionSupport,
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(given, option)| given.then_some(option))
+        .collect()
+    }
+
+    /// The estimator that runs and the options of another one
+    /// ([`crestline::curvature::select_estimator`]).
+    fn selection(&self, default: Estimator) -> EstimatorSelection {
+        select_estimator(self.estimator, &self.given(), default)
+    }
+
     /// The estimator that runs: `estimator`, else the cubic fit with `rings`, else `default`.
     pub fn estimator(&self, default: Estimator) -> Estimator {
-        match (self.estimator, self.rings) {
-            (Some(e), _) => e,
-            (None, Some(_)) => Estimator::CubicFit,
-            (None, None) => default,
-        }
+        self.selection(default).estimator
     }
 
     /// The options given for another estimator than the one that runs, each with why.
     pub fn unused(&self, default: Estimator) -> Vec<String> {
-        let estimator = self.estimator(default);
-        let given = [
-            (self.radius.is_some(), "radius", Estimator::JetFit),
-            (self.degree.is_some(), "degree", Estimator::JetFit),
-            (
-                self.no_noise_adaptation,
-                "no_noise_adaptation",
-                Estimator::JetFit,
-            ),
-            (self.rings.is_some(), "rings", Estimator::CubicFit),
-            (
-                self.direction_support.is_some(),
-                "direction_support",
-                Estimator::ShapeOperator,
-            ),
-        ];
-        given
+        let selection = self.selection(default);
+        selection
+            .unused
             .into_iter()
-            .filter(|&(given, _, needs)| given && estimator != needs)
-            .map(|(_, name, needs)| {
+            .map(|(option, needs)| {
                 format!(
-                    "{name} (it applies to the {} estimator; this run uses {})",
+                    "{} (it applies to the {} estimator; this run uses {})",
+                    keyword(option),
                     name_of(&needs, &ESTIMATORS),
-                    name_of(&estimator, &ESTIMATORS)
+                    name_of(&selection.estimator, &ESTIMATORS)
                 )
             })
             .collect()

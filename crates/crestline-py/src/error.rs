@@ -8,10 +8,8 @@
 //! where an array is needed, floats where vertex indices are, a float where a count is)
 //! raises `TypeError` ([`wrong_type`]); one of the right type with a wrong value (a wrong
 //! shape, a negative count, an unknown name) raises `ValueError` ([`invalid`]). An output in
-//! a folder that does not exist raises `FileNotFoundError` before any work
-//! ([`check_output_folder`]), as the command-line tool refuses it.
-
-use std::path::Path;
+//! a folder that does not exist raises `FileNotFoundError` naming the folder (the library's
+//! `Error::Io` of kind `NotFound`), as the command-line tool refuses it.
 
 use crestline::Error;
 use pyo3::exceptions::{
@@ -79,24 +77,4 @@ pub fn name_of<T: PartialEq>(value: &T, choices: &[(&'static str, T)]) -> &'stat
         .iter()
         .find(|(_, choice)| choice == value)
         .map_or("?", |(name, _)| *name)
-}
-
-/// Refuses an output `path` in a folder that does not exist, with the command-line tool's
-/// message (the library's error would name the temporary file it writes first).
-///
-/// # Errors
-/// `FileNotFoundError` naming the folder.
-pub fn check_output_folder(path: &Path) -> PyResult<()> {
-    let folder = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    if folder.is_dir() {
-        return Ok(());
-    }
-    Err(PyFileNotFoundError::new_err(format!(
-        "{}: the folder {} does not exist",
-        path.display(),
-        folder.display()
-    )))
 }

@@ -17,7 +17,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PySlice, PySliceMethods, PyType};
 
 use crate::arrays::vectors_array;
-use crate::error::{check_output_folder, choose, invalid, to_py_err, type_name, wrong_type};
+use crate::error::{choose, invalid, to_py_err, type_name, wrong_type};
 
 /// Feature lines found on a mesh (or read from a file).
 ///
@@ -224,9 +224,11 @@ impl Lines {
 
     /// Figures about the extraction, as `crestline extract --stats json` prints them but for
     /// the times of reading and writing files (triangles, singular triangles per family,
-    /// lines traced and kept, their total length, the sharp creases (`creases`,
-    /// `crease_length`, `crease_threshold_degrees`: `None` when none were looked for or
-    /// found), the bounding-box `diagonal`, threshold, seconds per stage; `jet_fit`: the sample spacing, the radius in spacings, the noise level and
+    /// lines traced and kept, `ridges` and `valleys` (crest lines only) and `crease_ridges`
+    /// and `crease_valleys` (convex and concave creases), as the JSON lines file counts them,
+    /// their total length, the sharp creases (`creases`, `crease_length`,
+    /// `crease_threshold_degrees`: `None` when none were looked for or found), the
+    /// bounding-box `diagonal`, threshold, seconds per stage; `jet_fit`: the sample spacing, the radius in spacings, the noise level and
     /// its standard deviation in spacings and the quartic weight the fit chose, `None` for
     /// the other estimators); `None` for lines read from a file or sliced out of others. A
     /// copy each time.
@@ -249,7 +251,6 @@ impl Lines {
         let format = format
             .map(|name| choose("format", name, &LINES_FORMATS))
             .transpose()?;
-        check_output_folder(&path)?;
         py.detach(|| write_lines(&path, &self.lines, format, PlyEncoding::BinaryLittleEndian))
             .map_err(to_py_err)
     }
@@ -277,6 +278,8 @@ fn stats_dict<'py>(
     d.set_item("lines", s.lines)?;
     d.set_item("ridges", s.ridges)?;
     d.set_item("valleys", s.valleys)?;
+    d.set_item("crease_ridges", s.crease_ridges)?;
+    d.set_item("crease_valleys", s.crease_valleys)?;
     d.set_item("total_length", s.total_length)?;
     d.set_item("creases", s.creases)?;
     d.set_item("crease_length", s.crease_length)?;

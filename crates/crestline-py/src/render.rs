@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::arrays::{counts, numbers, per_vertex};
-use crate::error::{check_output_folder, choose, to_py_err};
+use crate::error::{choose, to_py_err};
 use crate::lines::Lines;
 use crate::mesh::mesh_from_arrays;
 
@@ -94,7 +94,8 @@ pub fn render<'py>(
     let field = field.as_deref();
     match path {
         Some(path) => {
-            check_output_folder(&path)?;
+            // Before the rendering, not after it.
+            crestline::io::check_output_folder(&path).map_err(to_py_err)?;
             py.detach(|| write_picture(&path, &mesh, lines, field, &options))
                 .map_err(to_py_err)?;
             Ok(None)

@@ -46,8 +46,15 @@ def test_lines_and_their_flat_arrays_agree(lines):
 def test_stats(lines):
     stats = lines.stats
     assert stats["lines"] == len(lines)
-    # The stats count the crease curves of each family with its crest lines.
-    assert stats["ridges"] == lines.kinds.count("ridge") + lines.kinds.count("crease-ridge")
+    # Crest lines and creases apart, as the JSON lines file counts them.
+    for key, kind in [
+        ("ridges", "ridge"),
+        ("valleys", "valley"),
+        ("crease_ridges", "crease-ridge"),
+        ("crease_valleys", "crease-valley"),
+    ]:
+        assert stats[key] == lines.kinds.count(kind), key
+    assert stats["creases"] == stats["crease_ridges"] + stats["crease_valleys"]
     assert stats["triangles"] == 12946
     assert "curvature" in stats["stage_seconds"]
 

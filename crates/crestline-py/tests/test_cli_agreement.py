@@ -99,7 +99,7 @@ def test_extract_options_match_cli_on_a_cad_part(cli, tmp_path, fandisk, args):
 def test_stats_match_cli(cli, tmp_path, fandisk):
     """`Lines.stats` holds the figures of `--stats json`, but for reading and writing files."""
     printed = subprocess.run(
-        [str(cli), "extract", str(FANDISK), "-o", str(tmp_path / "lines.obj"), "--stats=json", "-q"],
+        [str(cli), "extract", str(FANDISK), "-o", str(tmp_path / "lines.json"), "--stats=json", "-q"],
         check=True,
         capture_output=True,
         text=True,
@@ -110,6 +110,10 @@ def test_stats_match_cli(cli, tmp_path, fandisk):
     assert stats.keys() == expected.keys() - file_times
     assert stats["stage_seconds"].keys() == expected["stage_seconds"].keys() - {"load", "write"}
     assert expected["creases"] > 0
+    # Crest lines and creases apart, with the keys and counts of the JSON lines file.
+    written = json.loads((tmp_path / "lines.json").read_text())
+    for key in ("ridges", "valleys", "crease_ridges", "crease_valleys"):
+        assert stats[key] == written[key], key
     for key, value in expected.items():
         if key in file_times or key in ("stage_seconds", "jet_fit"):
             continue

@@ -18,7 +18,8 @@ pub enum Location {
     Line(usize),
     /// A 0-based byte offset in a binary file (or in a binary section of one).
     Byte(u64),
-    /// The file as a whole (for example: it is empty).
+    /// The file as a whole (for example: it is empty); a message about it names the file
+    /// alone (`empty.obj: empty file`).
     File,
 }
 
@@ -49,8 +50,9 @@ pub enum Error {
         /// What the operating system said.
         cause: std::io::Error,
     },
-    /// A file's contents are malformed.
-    #[error("{}: {location}: {message}", path.display())]
+    /// A file's contents are malformed: `path: line 3: message`, `path: byte 84: message`,
+    /// or `path: message` about the file as a whole ([`Location::File`]).
+    #[error("{}: {}{message}", path.display(), position(location))]
     Parse {
         /// The file concerned (or a label such as `<memory>`).
         path: PathBuf,
@@ -68,6 +70,14 @@ pub enum Error {
     /// A numerical method failed (for example a factorization that is not positive definite).
     #[error("solver: {0}")]
     Solver(String),
+}
+
+/// `line 3: ` or `byte 84: `; nothing for the file as a whole, which the path names already.
+fn position(location: &Location) -> String {
+    match location {
+        Location::File => String::new(),
+        _ => format!("{location}: "),
+    }
 }
 
 impl Error {
@@ -99,5 +109,11 @@ mod tests {
         assert_eq!(e.to_string(), "a/b.obj: line 12: non-numeric token 'x'");
         let e = Error::parse("m.ply", Location::Byte(1034), "truncated");
         assert_eq!(e.to_string(), "m.ply: byte 1034: truncated");
+    }
+
+    #[test]
+    fn whole_file_parse_error_names_the_file_alone() {
+        let e = Error::parse("empty.obj", Location::File, "empty file");
+        assert_eq!(e.to_string(), "empty.obj: empty file");
     }
 }

@@ -12,17 +12,16 @@ use crestline::io::{Format, PlyEncoding};
 use rayon::prelude::*;
 
 use super::extract::{
-    Args, IoTimes, LineCounts, StatsFormat, default_output, lines_format, mask_regions,
-    options_from_args,
+    Args, IoTimes, StatsFormat, default_output, lines_format, mask_regions, options_from_args,
 };
 use crate::input::{Prepared, diffusion_factors, is_dash, load_mesh, prepare_mesh};
 use crate::progress;
 
-/// What became of one mesh: its figures (`--stats json`) and lines of each kind.
+/// What became of one mesh: its figures (`--stats json`).
 struct Outcome {
     input: PathBuf,
     output: PathBuf,
-    result: Result<(serde_json::Value, LineCounts)>,
+    result: Result<serde_json::Value>,
     seconds: f64,
 }
 
@@ -136,11 +135,7 @@ fn refuse_collisions(inputs: &[PathBuf], outputs: &[PathBuf]) -> Result<()> {
 }
 
 /// Extracts and writes the lines of one mesh; returns its figures and counts.
-fn extract_one(
-    input: &Path,
-    output: &Path,
-    args: &Args,
-) -> Result<(serde_json::Value, LineCounts)> {
+fn extract_one(input: &Path, output: &Path, args: &Args) -> Result<serde_json::Value> {
     let clock = Instant::now();
     let (mesh, name) = load_mesh(Some(input), args.input_format)?;
     let Prepared { mesh, weld, .. } = prepare_mesh(mesh, &name, args.prepare)?;
@@ -159,17 +154,14 @@ fn extract_one(
         load,
         write: clock.elapsed(),
     };
-    Ok((
-        super::extract::stats_json(&extraction, &mesh, &io),
-        LineCounts::of(&extraction.lines),
-    ))
+    Ok(super::extract::stats_json(&extraction, &mesh, &io))
 }
 
 fn summary_json(outcomes: &[Outcome]) -> serde_json::Value {
     let files: Vec<serde_json::Value> = outcomes
         .iter()
         .map(|o| match &o.result {
-            Ok((stats, _)) => serde_json::json!({
+            Ok(stats) => serde_json::json!({
                 "input": o.input.display().to_string(),
                 "output": o.output.display().to_string(),
                 "ok": true,
@@ -206,13 +198,13 @@ fn summary_table(outcomes: &[Outcome]) -> String {
         let input = o.input.display().to_string();
         match &o.result {
             // Ridges and valleys are crest lines, as the JSON lines file counts them.
-            Ok((s, counts)) => {
+            Ok(s) => {
                 out += &format!(
                     "{input:<width$}  {:>9}  {:>6}  {:>6}  {:>7}  {:>7}  {:>8.2}  {}\n",
                     s["triangles"].to_string(),
                     s["lines"].to_string(),
-                    counts.ridges,
-                    counts.valleys,
+                    s["ridges"].to_string(),
+                    s["valleys"].to_string(),
                     s["creases"].to_string(),
                     o.seconds,
                     o.output.display()

@@ -6,7 +6,10 @@ use std::path::PathBuf;
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
-use crestline::curvature::{Curvature, CurvatureOptions, Estimator, estimate_split};
+use crestline::curvature::{
+    Curvature, CurvatureOptions, Estimator, EstimatorOption, EstimatorSelection, estimate_split,
+    select_estimator,
+};
 use crestline::io::{PlyWriter, VertexProperty};
 use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
@@ -78,41 +81,46 @@ pub struct EstimatorArgs {
 }
 
 impl EstimatorArgs {
+    /// The estimator flags given, as the library names them.
+    fn given(&self) -> Vec<EstimatorOption> {
+        [
+            (self.radius.is_some(), EstimatorOption::Radius),
+            (self.degree.is_some(), EstimatorOption::Degree),
+            (self.no_noise_adaptation, EstimatorOption::NoNoiseAdaptation),
+            (self.rings.is_some(), EstimatorOption::Rings),
+            (
+                self.direction_support.is_some(),
+                EstimatorOption::DirectionSupport,
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(given, option)| given.then_some(option))
+        .collect()
+    }
+
+    /// The estimator that runs and the flags of another one
+    /// ([`crestline::curvature::select_estimator`]).
+    fn selection(&self, default: Estimator) -> EstimatorSelection {
+        select_estimator(self.estimator.map(Into::into), &self.given(), default)
+    }
+
     /// The estimator that runs: --estimator, else the cubic fit with --rings, else `default`.
     pub fn estimator(&self, default: Estimator) -> Estimator {
-        match (self.estimator, self.rings) {
-            (Some(e), _) => e.into(),
-            (None, Some(_)) => Estimator::CubicFit,
-            (None, None) => default,
-        }
+        self.selection(default).estimator
     }
 
     /// The flags given for another estimator than the one that runs, each with why.
     pub fn unused(&self, default: Estimator) -> Vec<String> {
-        let estimator = self.estimator(default);
-        let given = [
-            (self.radius.is_some(), "--radius", Estimator::JetFit),
-            (self.degree.is_some(), "--degree", Estimator::JetFit),
-            (
-                self.no_noise_adaptation,
-                "--no-noise-adaptation",
-                Estimator::JetFit,
-            ),
-            (self.rings.is_some(), "--rings", Estimator::CubicFit),
-            (
-                self.direction_support.is_some(),
-                "--direction-support",
-                Estimator::ShapeOperator,
-            ),
-        ];
-        given
+        let selection = self.selection(default);
+        selection
+            .unused
             .into_iter()
-            .filter(|&(given, _, needs)| given && estimator != needs)
-            .map(|(_, flag, needs)| {
+            .map(|(option, needs)| {
                 format!(
-                    "{flag} (it applies to the {} estimator; this run uses {})",
+                    "{} (it applies to the {} estimator; this run uses {})",
+                    flag(option),
                     estimator_name(needs),
-                    estimator_name(estimator)
+                    estimator_name(selection.estimator)
                 )
             })
             .collect()
@@ -137,6 +145,17 @@ impl EstimatorArgs {
             options.shape_operator.direction_support = support;
         }
         options
+    }
+}
+
+/// The flag of an estimator option.
+fn flag(option: EstimatorOption) -> &'static str {
+    match option {
+        EstimatorOption::Radius => "--radius",
+        EstimatorOption::Degree => "--degree",
+        EstimatorOption::NoNoiseAdaptation => "--no-noise-adaptation",
+        EstimatorOption::Rings => "--rings",
+        EstimatorOption::DirectionSupport => "--direction-support",
     }
 }
 

@@ -13,8 +13,8 @@ use crestline::extract::{
 };
 use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines, write_lines_to};
+use crestline::lines::FeatureLines;
 use crestline::lines::crease::CreaseAngle;
-use crestline::lines::{FeatureLines, LineKind};
 use crestline::render::{self, PictureFormat, RenderOptions};
 use crestline::smoothing::extremality::MaskRegion;
 use crestline::smoothing::surface::SurfaceSmoothing;
@@ -263,13 +263,7 @@ pub fn run(args: Args) -> Result<()> {
     }
 
     if !progress::quiet() {
-        print_summary(
-            &name,
-            &output,
-            &extraction.lines,
-            &extraction.stats,
-            &options,
-        );
+        print_summary(&name, &output, &extraction.stats, &options);
     }
     match args.stats {
         Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, mesh, &io)),
@@ -282,60 +276,26 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// The lines of each kind, as the JSON lines file counts them (`ridges`, `valleys`,
-/// `crease_ridges`, `crease_valleys`): ridges and valleys are crest lines only, creases are
-/// counted apart (convex ones are crease ridges, concave ones crease valleys).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct LineCounts {
-    /// Crest lines of the ridge family.
-    pub ridges: usize,
-    /// Crest lines of the valley family.
-    pub valleys: usize,
-    /// Convex sharp creases (`crease-ridge`).
-    pub crease_ridges: usize,
-    /// Concave sharp creases (`crease-valley`).
-    pub crease_valleys: usize,
-}
-
-impl LineCounts {
-    /// Counts the lines of `lines` by kind.
-    pub fn of(lines: &FeatureLines) -> Self {
-        let count = |kind: LineKind, crease: bool| {
-            lines
-                .lines
-                .iter()
-                .filter(|l| l.kind == kind && l.crease == crease)
-                .count()
-        };
-        LineCounts {
-            ridges: count(LineKind::Ridge, false),
-            valleys: count(LineKind::Valley, false),
-            crease_ridges: count(LineKind::Ridge, true),
-            crease_valleys: count(LineKind::Valley, true),
-        }
-    }
-
-    /// `2 ridges, 2 valleys, 34 convex and 4 concave creases`; the creases only when there
-    /// are some.
-    pub fn describe(&self) -> String {
-        let plural =
-            |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
-        let mut text = format!(
-            "{}, {}",
-            plural(self.ridges, "ridge", "ridges"),
-            plural(self.valleys, "valley", "valleys")
+/// `2 ridges, 2 valleys, 34 convex and 4 concave creases`: the library's counts, crest lines
+/// and creases apart as the JSON lines file counts them; the creases only when there are some.
+pub fn describe_counts(s: &ExtractStats) -> String {
+    let plural =
+        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    let mut text = format!(
+        "{}, {}",
+        plural(s.ridges, "ridge", "ridges"),
+        plural(s.valleys, "valley", "valleys")
+    );
+    let creases = s.crease_ridges + s.crease_valleys;
+    if creases > 0 {
+        text += &format!(
+            ", {} convex and {} concave {}",
+            s.crease_ridges,
+            s.crease_valleys,
+            if creases == 1 { "crease" } else { "creases" }
         );
-        let creases = self.crease_ridges + self.crease_valleys;
-        if creases > 0 {
-            text += &format!(
-                ", {} convex and {} concave {}",
-                self.crease_ridges,
-                self.crease_valleys,
-                if creases == 1 { "crease" } else { "creases" }
-            );
-        }
-        text
     }
+    text
 }
 
 /// `x` with six significant digits (`80.7701`, `0.000123457`; a length of a mesh modelled in
@@ -356,17 +316,11 @@ pub fn significant(x: f64) -> String {
 
 /// The one-paragraph summary on stderr: counts, creases, and what the automatic threshold
 /// found.
-fn print_summary(
-    name: &str,
-    output: &Path,
-    lines: &FeatureLines,
-    s: &ExtractStats,
-    options: &ExtractOptions,
-) {
+fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractOptions) {
     eprintln!(
         "{name}: {} lines ({}), total length {} -> {}",
         s.lines,
-        LineCounts::of(lines).describe(),
+        describe_counts(s),
         significant(s.total_length),
         display(output)
     );
@@ -835,7 +789,7 @@ fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
     out += &format!(
         "lines kept             {} ({})\n",
         s.lines,
-        LineCounts::of(&x.lines).describe()
+        describe_counts(s)
     );
     out += &format!(
         "total length           {} ({:.2} diagonals)\n",
@@ -900,11 +854,11 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
         "singular_min": s.trace.singular_min,
         "lines_traced": s.lines_traced,
         "lines": s.lines,
-        // The library's figures, as Python's `Lines.stats` gives them: here `ridges` and
-        // `valleys` count the creases of their family too, unlike the lines file's and the
-        // summary's (a change of `ExtractStats` and of the bindings, not of the CLI alone).
+        // Crest lines and creases apart, as the JSON lines file counts them.
         "ridges": s.ridges,
         "valleys": s.valleys,
+        "crease_ridges": s.crease_ridges,
+        "crease_valleys": s.crease_valleys,
         "total_length": s.total_length,
         "creases": s.creases,
         "crease_length": s.crease_length,

@@ -131,8 +131,8 @@ fn malformed_files_in_every_format() {
             &["c.off: line 3", "of 3 vertices"],
         ),
         ("d.stl", b"\x00\x01junk", &["d.stl: byte 6", "truncated"]),
-        ("e.obj", b"", &["e.obj: file: empty file"]),
-        ("f.obj", b"# nothing\n", &["f.obj: file: no vertices"]),
+        ("e.obj", b"", &["e.obj: empty file"]),
+        ("f.obj", b"# nothing\n", &["f.obj: no vertices"]),
     ] {
         let path = dir.path().join(name);
         std::fs::write(&path, bytes).unwrap();

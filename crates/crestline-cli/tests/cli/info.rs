@@ -99,7 +99,7 @@ fn truncated_binary_file_names_file_and_byte() {
 #[test]
 fn empty_and_unknown_files_fail_cleanly() {
     let err = failing_info("empty.stl", b"");
-    assert!(err.contains("empty.stl: file: empty file"), "{err}");
+    assert!(err.contains("empty.stl: empty file"), "{err}");
     let err = failing_info("mesh.xyz", b"whatever");
     assert!(err.contains("unknown extension '.xyz'"), "{err}");
     let err = fails(crestline(&["info", "/nonexistent/none.obj"]));

@@ -76,7 +76,9 @@ class Lines:
     def stats(self) -> Optional[dict]:
         """Figures about the extraction (as ``crestline extract --stats json``, without the times
         of reading and writing files), a copy each time; None for lines read from a file or
-        sliced out of others."""
+        sliced out of others. ``ridges`` and ``valleys`` count crest lines only,
+        ``crease_ridges`` and ``crease_valleys`` the convex and concave creases, as the JSON
+        lines file does; ``creases`` is their sum."""
     def write(self, path: PathLike, format: Optional[LinesFormat] = None) -> None:
         """Writes the lines as OBJ, PLY (binary) or JSON, chosen by ``format`` or the extension."""
 

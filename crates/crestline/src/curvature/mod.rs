@@ -177,6 +177,89 @@ impl Default for CurvatureOptions {
     }
 }
 
+/// An option that belongs to one estimator: front ends that take every estimator's options
+/// at once (the command-line tool, the Python binding) ask [`select_estimator`] which
+/// estimator runs and which of the options given it would not use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EstimatorOption {
+    /// The jet fit's radius ([`JetFitOptions::radius`]).
+    Radius,
+    /// The jet fit's degree ([`JetFitOptions::degree`]).
+    Degree,
+    /// The jet fit's radius kept fixed on noisy meshes ([`JetFitOptions::adapt_to_noise`]
+    /// off).
+    NoNoiseAdaptation,
+    /// The cubic fit's k-ring ([`CubicFitOptions::rings`]); given alone (without an
+    /// estimator), it selects the cubic fit.
+    Rings,
+    /// The neighbourhood's weight in the shape operator's principal directions
+    /// ([`ShapeOperatorOptions::direction_support`]).
+    DirectionSupport,
+}
+
+impl EstimatorOption {
+    /// Every option, in the order [`select_estimator`] reports them.
+    pub const ALL: [EstimatorOption; 5] = [
+        EstimatorOption::Radius,
+        EstimatorOption::Degree,
+        EstimatorOption::NoNoiseAdaptation,
+        EstimatorOption::Rings,
+        EstimatorOption::DirectionSupport,
+    ];
+
+    /// The estimator that uses the option.
+    pub fn estimator(self) -> Estimator {
+        match self {
+            EstimatorOption::Radius
+            | EstimatorOption::Degree
+            | EstimatorOption::NoNoiseAdaptation => Estimator::JetFit,
+            EstimatorOption::Rings => Estimator::CubicFit,
+            EstimatorOption::DirectionSupport => Estimator::ShapeOperator,
+        }
+    }
+}
+
+/// The result of [`select_estimator`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct EstimatorSelection {
+    /// The estimator that runs.
+    pub estimator: Estimator,
+    /// The options given that it would not use, each with the estimator that would, in the
+    /// order of [`EstimatorOption::ALL`]; empty when every option given applies.
+    pub unused: Vec<(EstimatorOption, Estimator)>,
+}
+
+/// Which estimator runs when a front end is given the estimator `chosen` (if any) and the
+/// options `given`: `chosen`, else the cubic fit when [`EstimatorOption::Rings`] is given,
+/// else `default`; and the options given that belong to another estimator than that one.
+///
+/// ```
+/// use crestline::curvature::{Estimator, EstimatorOption, select_estimator};
+///
+/// // `--rings 2` alone selects the cubic fit; `--radius` then has nothing to apply to.
+/// let given = [EstimatorOption::Rings, EstimatorOption::Radius];
+/// let selection = select_estimator(None, &given, Estimator::JetFit);
+/// assert_eq!(selection.estimator, Estimator::CubicFit);
+/// assert_eq!(selection.unused, [(EstimatorOption::Radius, Estimator::JetFit)]);
+/// ```
+pub fn select_estimator(
+    chosen: Option<Estimator>,
+    given: &[EstimatorOption],
+    default: Estimator,
+) -> EstimatorSelection {
+    let estimator = match chosen {
+        Some(e) => e,
+        None if given.contains(&EstimatorOption::Rings) => Estimator::CubicFit,
+        None => default,
+    };
+    let unused = EstimatorOption::ALL
+        .into_iter()
+        .filter(|option| given.contains(option) && option.estimator() != estimator)
+        .map(|option| (option, option.estimator()))
+        .collect();
+    EstimatorSelection { estimator, unused }
+}
+
 /// Principal curvatures, directions, extremalities and normals of every vertex of `mesh`,
 /// by the estimator `options` selects.
 ///
@@ -465,5 +548,54 @@ mod tests {
             tangent_frame(Vec3::zeros()),
             (Vec3::x(), Vec3::y(), Vec3::z())
         );
+    }
+
+    #[test]
+    fn rings_alone_select_the_cubic_fit_and_an_estimator_given_wins() {
+        use EstimatorOption::*;
+        let select =
+            |chosen, given: &[EstimatorOption]| select_estimator(chosen, given, Estimator::JetFit);
+        assert_eq!(select(None, &[]).estimator, Estimator::JetFit);
+        assert_eq!(select(None, &[Rings]).estimator, Estimator::CubicFit);
+        assert_eq!(select(None, &[Rings]).unused, []);
+        let shape_operator = select(Some(Estimator::ShapeOperator), &[Rings, DirectionSupport]);
+        assert_eq!(shape_operator.estimator, Estimator::ShapeOperator);
+        assert_eq!(shape_operator.unused, [(Rings, Estimator::CubicFit)]);
+        assert_eq!(
+            select_estimator(None, &[], Estimator::ShapeOperator).estimator,
+            Estimator::ShapeOperator
+        );
+    }
+
+    #[test]
+    fn options_of_another_estimator_are_reported_in_one_order_with_the_estimator_they_need() {
+        use EstimatorOption::*;
+        let every = EstimatorOption::ALL;
+        let mut reversed = every;
+        reversed.reverse();
+        for given in [every, reversed] {
+            let selection =
+                select_estimator(Some(Estimator::ShapeOperator), &given, Estimator::JetFit);
+            assert_eq!(
+                selection.unused,
+                [
+                    (Radius, Estimator::JetFit),
+                    (Degree, Estimator::JetFit),
+                    (NoNoiseAdaptation, Estimator::JetFit),
+                    (Rings, Estimator::CubicFit),
+                ]
+            );
+        }
+        let jet = select_estimator(
+            None,
+            &[Radius, Degree, NoNoiseAdaptation],
+            Estimator::JetFit,
+        );
+        assert_eq!(jet.unused, []);
+        for option in every {
+            let selection =
+                select_estimator(Some(option.estimator()), &[option], Estimator::JetFit);
+            assert_eq!(selection.unused, [], "{option:?}");
+        }
     }
 }

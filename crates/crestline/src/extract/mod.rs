@@ -171,13 +171,18 @@ pub struct ExtractStats {
     pub lines_traced: usize,
     /// Lines kept.
     pub lines: usize,
-    /// Ridges kept.
+    /// Crest lines of the ridge family kept (creases apart, as the JSON lines file counts
+    /// them: `ridges`, `valleys`, `crease_ridges`, `crease_valleys`).
     pub ridges: usize,
-    /// Valleys kept.
+    /// Crest lines of the valley family kept (creases apart).
     pub valleys: usize,
+    /// Convex sharp creases kept (`crease-ridge` lines).
+    pub crease_ridges: usize,
+    /// Concave sharp creases kept (`crease-valley` lines).
+    pub crease_valleys: usize,
     /// Total length of the lines kept.
     pub total_length: f64,
-    /// Crease curves among the lines kept.
+    /// Crease curves among the lines kept: `crease_ridges + crease_valleys`.
     pub creases: usize,
     /// Total length of the crease curves.
     pub crease_length: f64,
@@ -434,11 +439,20 @@ fn record_threshold(chosen: ChosenThreshold, stats: &mut ExtractStats) {
 
 /// Fills the statistics' counts and lengths of the final lines.
 fn count_lines(lines: &FeatureLines, stats: &mut ExtractStats) {
+    let count = |kind: LineKind, crease: bool| {
+        lines
+            .lines
+            .iter()
+            .filter(|l| l.kind == kind && l.crease == crease)
+            .count()
+    };
     stats.lines = lines.lines.len();
-    stats.ridges = lines.of_kind(LineKind::Ridge).count();
-    stats.valleys = lines.of_kind(LineKind::Valley).count();
+    stats.ridges = count(LineKind::Ridge, false);
+    stats.valleys = count(LineKind::Valley, false);
+    stats.crease_ridges = count(LineKind::Ridge, true);
+    stats.crease_valleys = count(LineKind::Valley, true);
     stats.total_length = lines.total_length();
-    stats.creases = lines.creases(true).count();
+    stats.creases = stats.crease_ridges + stats.crease_valleys;
     // A fold from +0: `sum` of no creases would be -0 (printed "-0.000000").
     stats.crease_length = lines.creases(true).fold(0.0, |total, l| total + l.length);
 }

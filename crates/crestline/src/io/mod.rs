@@ -301,13 +301,15 @@ pub fn write_mesh(
 /// gets the usual permissions (read-write, less the umask).
 ///
 /// # Errors
-/// [`Error::Io`] naming `path` when the folder does not exist or cannot be written to, when
+/// [`Error::Io`] naming `path` when the folder does not exist (`out/lines.obj: the folder
+/// out does not exist`, as [`check_output_folder`] says) or cannot be written to, when
 /// `path` is a folder, or when `write` fails.
 pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<&File>) -> std::io::Result<()>,
 ) -> Result<()> {
     let fail = |e: std::io::Error| Error::io(path, e);
+    let given = path;
     // A device, a pipe or a socket (`/dev/null`, `>(…)`, a FIFO) is written into: a rename
     // would replace it with a file. A symbolic link is followed: its target is replaced, the
     // link stays.
@@ -323,10 +325,11 @@ pub fn write_atomically(
     } else {
         path
     };
-    let folder = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let folder = folder_of(path);
+    // Otherwise the error would name the temporary file, not the folder.
+    if !folder.is_dir() {
+        return Err(missing_folder(given, folder));
+    }
     let mut builder = tempfile::Builder::new();
     builder.prefix(".crestline-").suffix(".part");
     #[cfg(unix)]
@@ -352,6 +355,39 @@ pub fn write_atomically(
     temporary.persist(path).map_err(|e| fail(e.error))?;
     drop(writes);
     Ok(())
+}
+
+/// Refuses an output `path` in a folder that does not exist, with the message
+/// [`write_atomically`] gives: for a front end to check before the work rather than after it.
+///
+/// # Errors
+/// [`Error::Io`] of kind `NotFound`: `out/lines.obj: the folder out does not exist`.
+pub fn check_output_folder(path: &Path) -> Result<()> {
+    let folder = folder_of(path);
+    if folder.is_dir() {
+        Ok(())
+    } else {
+        Err(missing_folder(path, folder))
+    }
+}
+
+/// The folder `path` is in (`.` for a bare file name).
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// The error of an output `path` whose `folder` does not exist.
+fn missing_folder(path: &Path, folder: &Path) -> Error {
+    Error::io(
+        path,
+        std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            format!("the folder {} does not exist", folder.display()),
+        ),
+    )
 }
 
 /// The file a symbolic link leads to, through any chain of links (the last one may not exist
@@ -500,6 +536,30 @@ mod tests {
     use std::path::PathBuf;
 
     #[test]
+    fn an_output_in_a_missing_folder_names_the_folder_not_the_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let folder = dir.path().join("no/such");
+        let path = folder.join("lines.obj");
+        let e = write_atomically(&path, |_| Ok(())).unwrap_err();
+        let expected = format!(
+            "{}: the folder {} does not exist",
+            path.display(),
+            folder.display()
+        );
+        assert_eq!(e.to_string(), expected);
+        assert!(
+            matches!(&e, Error::Io { cause, .. } if cause.kind() == std::io::ErrorKind::NotFound)
+        );
+        assert_eq!(
+            check_output_folder(&path).unwrap_err().to_string(),
+            expected
+        );
+        assert!(check_output_folder(&dir.path().join("here.obj")).is_ok());
+        assert!(check_output_folder(Path::new("bare-name.obj")).is_ok());
+        assert!(!folder.exists());
+    }
+
+    #[test]
     fn format_from_extension_ignores_case() {
         assert_eq!(Format::from_path(Path::new("a/B.OBJ")), Some(Format::Obj));
         assert_eq!(Format::from_path(Path::new("x.Ply")), Some(Format::Ply));
@@ -530,7 +590,7 @@ mod tests {
     fn empty_file_is_an_error_in_every_format() {
         for f in Format::ALL {
             let e = read_mesh_bytes(b"", f, Path::new("empty.x")).unwrap_err();
-            assert_eq!(e.to_string(), "empty.x: file: empty file", "{f}");
+            assert_eq!(e.to_string(), "empty.x: empty file", "{f}");
         }
     }
 

@@ -327,7 +327,7 @@ mod tests {
 
     #[test]
     fn blank_file_is_empty() {
-        assert_eq!(error("\n  \n"), "t.obj: file: empty file");
+        assert_eq!(error("\n  \n"), "t.obj: empty file");
     }
 
     #[test]

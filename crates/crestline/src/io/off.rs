@@ -537,7 +537,7 @@ mod tests {
 
     #[test]
     fn comment_only_file_is_empty() {
-        assert_eq!(error("# nothing\n\n"), "t.off: file: empty file");
+        assert_eq!(error("# nothing\n\n"), "t.off: empty file");
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! files), and awkward meshes run through the whole pipeline.
 //!
 //! Every case ends in one of two ways, and the test says which: an error that names the file,
-//! a position in it (line, byte or "file") and what is wrong; or a correct result, with what
+//! a position in it (line or byte; none for the file as a whole) and what is wrong; or a correct result, with what
 //! was skipped counted. Nothing panics, hangs or allocates from a header's word alone.
 //! STL, feature-line and mask files, paths and whole-pipeline cases are in
 //! `bad_input_files.rs`; `io_robustness.rs` adds random damage; the CLI's side is in
@@ -16,7 +16,7 @@ use std::path::Path;
 
 use crestline::extract::{ExtractOptions, extract};
 use crestline::io::{Format, PlyEncoding, WriteOptions, read_mesh_bytes, write_mesh_to};
-use crestline::{TriMesh, shapes};
+use crestline::{Error, Location, TriMesh, shapes};
 
 use super::bad_input_files::every_method;
 
@@ -31,7 +31,7 @@ pub(super) fn read(name: &str, bytes: &[u8]) -> crestline::Result<TriMesh> {
 }
 
 /// The error of reading `bytes`; it must name the file and `location` ("line 3", "byte 84",
-/// "file") and contain every one of `words`.
+/// or "file": the file as a whole, named alone) and contain every one of `words`.
 #[track_caller]
 pub(super) fn fails(name: &str, bytes: impl AsRef<[u8]>, location: &str, words: &[&str]) {
     let message = match read(name, bytes.as_ref()) {
@@ -41,10 +41,22 @@ pub(super) fn fails(name: &str, bytes: impl AsRef<[u8]>, location: &str, words: 
             m.num_vertices(),
             m.num_faces()
         ),
-        Err(e) => e.to_string(),
+        Err(e) => {
+            let whole = matches!(
+                e,
+                Error::Parse {
+                    location: Location::File,
+                    ..
+                }
+            );
+            assert_eq!(whole, location == "file", "{name}: {e} (wanted {location})");
+            e.to_string()
+        }
     };
     // "byte" or "line" alone: any byte or line.
-    let prefix = if location.ends_with(|c: char| c.is_ascii_digit()) || location == "file" {
+    let prefix = if location == "file" {
+        format!("{name}: ")
+    } else if location.ends_with(|c: char| c.is_ascii_digit()) {
         format!("{name}: {location}: ")
     } else {
         format!("{name}: {location} ")
@@ -83,8 +95,17 @@ pub(super) fn every_prefix(name: &str, bytes: &[u8]) -> usize {
             let rest = m
                 .strip_prefix(&format!("{name}: "))
                 .unwrap_or_else(|| panic!("prefix of {end} bytes: {m}"));
+            // A position, or none for the file as a whole.
+            let positioned = rest.starts_with("line ") || rest.starts_with("byte ");
+            let whole = matches!(
+                e,
+                Error::Parse {
+                    location: Location::File,
+                    ..
+                }
+            );
             assert!(
-                rest.starts_with("line ") || rest.starts_with("byte ") || rest.starts_with("file"),
+                matches!(e, Error::Parse { .. }) && positioned != whole,
                 "prefix of {end} bytes: {m}"
             );
             failures += 1;

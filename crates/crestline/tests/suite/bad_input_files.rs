@@ -138,7 +138,7 @@ fn stl_cut_at_every_offset() {
 #[test]
 fn lines_files() {
     let lines = |t: &[u8]| parse_lines_obj(t, Path::new("l.obj")).map_err(|e| e.to_string());
-    assert_eq!(lines(b"").unwrap_err(), "l.obj: file: empty file");
+    assert_eq!(lines(b"").unwrap_err(), "l.obj: empty file");
     assert!(
         lines(b"v 0 0 0\nl 1\n")
             .unwrap_err()
@@ -185,7 +185,7 @@ fn diffusion_mask_files() {
     assert_eq!(mask(b"1 0.5\n# c\n0\n", 3).unwrap(), vec![1.0, 0.5, 0.0]);
     assert_eq!(mask(&with_bom("1\r\n2\r\n"), 2).unwrap(), vec![1.0, 2.0]);
     let errors: [(&[u8], &str); 5] = [
-        (b"", "m.txt: file: 0 factors for a mesh of 2 vertices"),
+        (b"", "m.txt: 0 factors for a mesh of 2 vertices"),
         (
             b"1\n2\n3\n",
             "m.txt: line 3: more factors than the 2 vertices of the mesh",

@@ -43,7 +43,10 @@ const MORE_PARTS: [&str; 6] = [
 
 /// The mesh and its exact sharp edges as segments.
 fn load(name: &str) -> (TriMesh, Vec<[Vec3; 2]>) {
-    let dir = if MORE_PARTS.iter().any(|part| name == format!("{part}-export")) {
+    let dir = if MORE_PARTS
+        .iter()
+        .any(|part| name == format!("{part}-export"))
+    {
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cad")
     } else {
         common::shared_dir("quality/cad")

@@ -251,3 +251,46 @@ fn pre_smoothing_that_leaves_nearly_flat_triangles_still_smooths_the_extremaliti
         TriMesh::new(vec![Vec3::zeros(), Vec3::x(), Vec3::y()], vec![[0, 1, 2]]).unwrap();
     extract(&triangle, &options).unwrap_or_else(|e| panic!("{e}"));
 }
+
+#[test]
+fn stats_count_crest_lines_and_creases_apart_as_the_json_lines_file_does() {
+    // fandisk: a few crest lines and many creases. `ridges` and `valleys` are crest lines
+    // only, in the statistics as in the JSON lines file (they once counted the creases of
+    // their family too: 36 ridges and 6 valleys where the file said 2 and 2).
+    let mesh = load_shared("fandisk.obj");
+    let found = extract(&mesh, &ExtractOptions::default()).unwrap();
+    let mut json = Vec::new();
+    crestline::io::lines::write_lines_to(
+        &mut json,
+        &found.lines,
+        crestline::io::lines::LinesFormat::Json,
+        crestline::io::PlyEncoding::Ascii,
+    )
+    .unwrap();
+    let file: serde_json::Value = serde_json::from_slice(&json).unwrap();
+    let s = &found.stats;
+    for (key, count) in [
+        ("ridges", s.ridges),
+        ("valleys", s.valleys),
+        ("crease_ridges", s.crease_ridges),
+        ("crease_valleys", s.crease_valleys),
+    ] {
+        assert_eq!(file[key], count, "{key}: {s:?}");
+    }
+    let of = |kind: &str| {
+        found
+            .lines
+            .lines
+            .iter()
+            .filter(|l| l.kind_name() == kind)
+            .count()
+    };
+    assert_eq!(s.ridges, of("ridge"));
+    assert_eq!(s.crease_valleys, of("crease-valley"));
+    assert!(s.crease_ridges > s.ridges, "{s:?}");
+    assert_eq!(s.creases, s.crease_ridges + s.crease_valleys);
+    assert_eq!(
+        s.lines,
+        s.ridges + s.valleys + s.crease_ridges + s.crease_valleys
+    );
+}

@@ -185,7 +185,7 @@ fn anything_but_a_lines_file_is_an_error() {
             br#"{"lines": [{"kind": "bump", "points": []}]}"#,
             LinesFormat::Json
         ),
-        "x: file: line 0 of \"lines\": unknown kind 'bump' (known: ridge, valley, \
+        "x: line 0 of \"lines\": unknown kind 'bump' (known: ridge, valley, \
              crease-ridge, crease-valley)"
     );
     let mesh = b"ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n\
@@ -229,7 +229,7 @@ fn obj_errors_name_the_line() {
             .unwrap_err()
             .to_string()
     };
-    assert_eq!(e(""), "l.obj: file: empty file");
+    assert_eq!(e(""), "l.obj: empty file");
     assert_eq!(
         e("v 0 0 0\nl 1\n"),
         "l.obj: line 2: polyline with 1 vertices (at least 2 needed)"

@@ -166,8 +166,10 @@ pub fn gap_thresholds(angles: &[f64], lengths: &[f64]) -> Vec<Gap> {
         return Vec::new();
     };
     let angle = |bin: f64| (floor + step * bin).exp();
-    // Overlapping extents (in order of their starts) joined into one gap each.
-    let mut joined: Vec<(usize, usize, Option<(usize, usize)>)> = Vec::new();
+    // Overlapping extents (in order of their starts) joined into one gap each: its first and
+    // last bin, and its first extent wide enough to choose.
+    type Extent = (usize, usize);
+    let mut joined: Vec<(usize, usize, Option<Extent>)> = Vec::new();
     for &(i, j) in &gaps {
         let wide = 2 * (j - i) >= widest;
         match joined.last_mut() {
