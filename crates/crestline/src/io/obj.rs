@@ -39,7 +39,29 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
     // once all vertices are known: (line, largest 0-based index).
     let mut forward_references: Vec<(usize, u64)> = Vec::new();
 
-    for (line, text) in Lines::new(bytes) {
+    // A record continued on the next lines (`\` at the end of a line), joined.
+    let mut joined: Vec<u8> = Vec::new();
+    let mut lines = Lines::new(bytes);
+    while let Some((line, text)) = lines.next() {
+        let text = match continued(text) {
+            None => text,
+            Some(head) => {
+                joined.clear();
+                joined.extend_from_slice(head);
+                // Each following line joins the record, which it ends unless it continues.
+                while let Some((_, next)) = lines.next() {
+                    joined.push(b' ');
+                    match continued(next) {
+                        Some(part) => joined.extend_from_slice(part),
+                        None => {
+                            joined.extend_from_slice(next);
+                            break;
+                        }
+                    }
+                }
+                joined.as_slice()
+            }
+        };
         let mut tokens = Tokens::new(text);
         let Some(keyword) = tokens.next() else {
             continue;
@@ -96,6 +118,13 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
         )));
     }
     Ok(MeshData { positions, faces })
+}
+
+/// The line without its final `\` (and the spaces after it) when it continues on the next
+/// line; `None` for a line that does not, or whose `\` is inside a comment.
+fn continued(line: &[u8]) -> Option<&[u8]> {
+    let end = line.iter().rposition(|&b| !is_space(b))?;
+    (line[end] == b'\\' && !line.contains(&b'#')).then(|| &line[..end])
 }
 
 /// The three coordinates of a `v` record in one pass over `rest` (the text after `v`), for
@@ -402,6 +431,18 @@ mod tests {
             error("v 0 0 0\nf\n"),
             "t.obj: line 2: face with 0 vertices (at least 3 needed)"
         );
+    }
+
+    #[test]
+    fn a_backslash_continues_a_record_on_the_next_line() {
+        let text = "v 0 0 0\nv 1 0 \\\n 0\nv 0 1 0\nv 1 1 0 \\ \r\n\nf 1 2 \\\n3 \\\n\n# C:\\models\\\nf 2 4 3\n";
+        let data = parse_str(text).unwrap();
+        assert_eq!(data.positions.len(), 4);
+        assert_eq!(data.positions[1], [1.0, 0.0, 0.0]);
+        assert_eq!(data.positions[3], [1.0, 1.0, 0.0]);
+        // `f 1 2 3` over three lines (the last one empty); the comment's backslash does not
+        // swallow the face after it.
+        assert_eq!(data.faces, vec![[0, 1, 2], [1, 3, 2]]);
     }
 
     #[test]
