@@ -49,7 +49,7 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
                 joined.clear();
                 joined.extend_from_slice(head);
                 // Each following line joins the record, which it ends unless it continues.
-                while let Some((_, next)) = lines.next() {
+                for (_, next) in lines.by_ref() {
                     joined.push(b' ');
                     match continued(next) {
                         Some(part) => joined.extend_from_slice(part),
