@@ -342,8 +342,17 @@ fn obj_crlf_bom_and_comments_anywhere() {
 }
 
 #[test]
-fn obj_line_continuations_are_named_in_the_error() {
-    fails("a.obj", "v 0 0 \\\n 0\n", "line 1", &["'\\'"]);
+fn obj_line_continuations_join_the_next_line() {
+    // A backslash at the end of a line continues the record (the OBJ format); one inside a
+    // comment does not, and one left inside a line is a token like any other.
+    reads(
+        "a.obj",
+        "v 0 0 \\\n 0\nv 1 0 0\nv 0 1 0 # C:\\\nf 1 \\\n 2 \\\n 3\n",
+        3,
+        1,
+        0,
+    );
+    fails("a.obj", "v 0 \\ 0 0\n", "line 1", &["'\\'"]);
 }
 
 #[test]
