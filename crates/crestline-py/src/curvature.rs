@@ -214,19 +214,7 @@ impl EstimatorArguments {
 
     /// The options given for another estimator than the one that runs, each with why.
     pub fn unused(&self, default: Estimator) -> Vec<String> {
-        let selection = self.selection(default);
-        selection
-            .unused
-            .into_iter()
-            .map(|(option, needs)| {
-                format!(
-                    "{} (it applies to the {} estimator; this run uses {})",
-                    keyword(option),
-                    name_of(&needs, &ESTIMATORS),
-                    name_of(&selection.estimator, &ESTIMATORS)
-                )
-            })
-            .collect()
+        self.selection(default).reasons(keyword)
     }
 
     /// `options` with the estimator and the options given.

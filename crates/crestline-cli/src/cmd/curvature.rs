@@ -111,19 +111,7 @@ impl EstimatorArgs {
 
     /// The flags given for another estimator than the one that runs, each with why.
     pub fn unused(&self, default: Estimator) -> Vec<String> {
-        let selection = self.selection(default);
-        selection
-            .unused
-            .into_iter()
-            .map(|(option, needs)| {
-                format!(
-                    "{} (it applies to the {} estimator; this run uses {})",
-                    flag(option),
-                    estimator_name(needs),
-                    estimator_name(selection.estimator)
-                )
-            })
-            .collect()
+        self.selection(default).reasons(flag)
     }
 
     /// `options` with the estimator and the flags given.
@@ -156,15 +144,6 @@ fn flag(option: EstimatorOption) -> &'static str {
         EstimatorOption::NoNoiseAdaptation => "--no-noise-adaptation",
         EstimatorOption::Rings => "--rings",
         EstimatorOption::DirectionSupport => "--direction-support",
-    }
-}
-
-/// The estimator's command-line name.
-pub fn estimator_name(e: Estimator) -> &'static str {
-    match e {
-        Estimator::ShapeOperator => "shape-operator",
-        Estimator::CubicFit => "cubic-fit",
-        Estimator::JetFit => "jet-fit",
     }
 }
 
@@ -279,7 +258,7 @@ pub fn run(args: Args) -> Result<()> {
             .encoding(args.ply.encoding())
             .comment(format!(
                 "crestline curvature ({}) of {name}",
-                estimator_name(estimator)
+                estimator.name()
             ));
         for (n, values) in &cols {
             let single: Vec<f32> = values.iter().map(|&x| x as f32).collect();
@@ -331,13 +310,13 @@ fn curvature_options(args: &Args) -> Result<CurvatureOptions> {
         unused.push(format!(
             "--creases (the estimation splits at creases with the jet-fit estimator only; this \
              run uses {})",
-            estimator_name(estimator)
+            estimator.name()
         ));
     }
     if !unused.is_empty() {
         bail!(
             "options that --estimator {} would not use: {}",
-            estimator_name(estimator),
+            estimator.name(),
             unused.join("; ")
         );
     }

@@ -48,6 +48,17 @@ pub enum Estimator {
     JetFit,
 }
 
+impl Estimator {
+    /// The name the command-line tool and the Python package give it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Estimator::ShapeOperator => "shape-operator",
+            Estimator::CubicFit => "cubic-fit",
+            Estimator::JetFit => "jet-fit",
+        }
+    }
+}
+
 /// Per-vertex curvature fields, indexed like the mesh's vertices.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Curvature {
@@ -227,6 +238,24 @@ pub struct EstimatorSelection {
     /// The options given that it would not use, each with the estimator that would, in the
     /// order of [`EstimatorOption::ALL`]; empty when every option given applies.
     pub unused: Vec<(EstimatorOption, Estimator)>,
+}
+
+impl EstimatorSelection {
+    /// One reason per unused option, `name` spelling the option as the front end takes it:
+    /// `--radius (it applies to the jet-fit estimator; this run uses cubic-fit)`.
+    pub fn reasons(&self, name: impl Fn(EstimatorOption) -> &'static str) -> Vec<String> {
+        self.unused
+            .iter()
+            .map(|&(option, needs)| {
+                format!(
+                    "{} (it applies to the {} estimator; this run uses {})",
+                    name(option),
+                    needs.name(),
+                    self.estimator.name()
+                )
+            })
+            .collect()
+    }
 }
 
 /// Which estimator runs when a front end is given the estimator `chosen` (if any) and the
@@ -561,6 +590,10 @@ mod tests {
         let shape_operator = select(Some(Estimator::ShapeOperator), &[Rings, DirectionSupport]);
         assert_eq!(shape_operator.estimator, Estimator::ShapeOperator);
         assert_eq!(shape_operator.unused, [(Rings, Estimator::CubicFit)]);
+        assert_eq!(
+            shape_operator.reasons(|_| "--rings"),
+            ["--rings (it applies to the cubic-fit estimator; this run uses shape-operator)"]
+        );
         assert_eq!(
             select_estimator(None, &[], Estimator::ShapeOperator).estimator,
             Estimator::ShapeOperator
