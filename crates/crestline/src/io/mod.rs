@@ -243,11 +243,78 @@ pub fn parse_mesh_bytes(bytes: &[u8], format: Format, name: &Path) -> Result<Mes
             message,
         },
         e => e,
-    })?;
-    if data.positions.is_empty() {
-        return Err(source.whole("no vertices: the file holds no mesh"));
+    });
+    let data = match data {
+        Ok(data) if data.positions.is_empty() => {
+            Err(source.whole("no vertices: the file holds no mesh"))
+        }
+        other => other,
+    };
+    data.map_err(|e| with_format_hint(e, bytes, format))
+}
+
+/// A parse error of a file whose contents look like another format than the one it was read
+/// as (a PLY file named `.obj`, the wrong `--input-format` on standard input) says so.
+fn with_format_hint(error: Error, bytes: &[u8], format: Format) -> Error {
+    match (error, sniff_format(bytes)) {
+        (
+            Error::Parse {
+                path,
+                location,
+                message,
+            },
+            Some(looks),
+        ) if looks != format => Error::Parse {
+            path,
+            location,
+            message: format!("{message} (the contents look like {looks}, not {format})"),
+        },
+        (error, _) => error,
     }
-    Ok(data)
+}
+
+/// The format a file's first bytes announce, when they announce one clearly: PLY's `ply`
+/// line, OFF's keyword, an ascii STL's `solid` followed by a `facet`, a binary STL whose size
+/// matches its triangle count, OBJ's vertex records before anything that is not OBJ.
+pub fn sniff_format(bytes: &[u8]) -> Option<Format> {
+    let text = text::strip_bom(bytes).trim_ascii_start();
+    let head = &text[..text.len().min(4096)];
+    let first_word = head
+        .split(|b| b.is_ascii_whitespace())
+        .next()
+        .unwrap_or_default();
+    if first_word == b"ply" {
+        return Some(Format::Ply);
+    }
+    let off_keyword = first_word
+        .strip_suffix(b"OFF")
+        .is_some_and(|prefix| prefix.iter().all(|b| b"STCN4n".contains(b)));
+    if off_keyword {
+        return Some(Format::Off);
+    }
+    if first_word == b"solid" && head.windows(5).any(|w| w == b"facet") {
+        return Some(Format::Stl);
+    }
+    if bytes.len() >= 84 {
+        let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
+        if count > 0 && 84 + 50 * count == bytes.len() as u64 {
+            return Some(Format::Stl);
+        }
+    }
+    // OBJ: the records before the first vertex are comments, blank lines or OBJ keywords.
+    for line in head.split(|&b| b == b'\n') {
+        let keyword = line
+            .split(|b| b.is_ascii_whitespace())
+            .find(|w| !w.is_empty());
+        match keyword {
+            None => continue,
+            Some(w) if w.starts_with(b"#") => continue,
+            Some(b"v") => return Some(Format::Obj),
+            Some(b"mtllib" | b"o" | b"g" | b"s" | b"vn" | b"vt" | b"usemtl") => continue,
+            Some(_) => return None,
+        }
+    }
+    None
 }
 
 /// How meshes are written.
@@ -557,6 +624,43 @@ mod tests {
         assert!(check_output_folder(&dir.path().join("here.obj")).is_ok());
         assert!(check_output_folder(Path::new("bare-name.obj")).is_ok());
         assert!(!folder.exists());
+    }
+
+    #[test]
+    fn a_file_read_as_the_wrong_format_says_what_it_looks_like() {
+        let ply = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                    property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+                    end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+        let obj = b"# made by hand\nmtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let off = b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+        let stl = b"solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
+                    vertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+        let mut binary = [0u8; 84 + 50];
+        binary[80] = 1;
+        let name = Path::new("m.x");
+        for (bytes, looks) in [
+            (&ply[..], Format::Ply),
+            (&obj[..], Format::Obj),
+            (&off[..], Format::Off),
+            (&stl[..], Format::Stl),
+            (&binary[..], Format::Stl),
+        ] {
+            assert_eq!(sniff_format(bytes), Some(looks));
+            assert!(parse_mesh_bytes(bytes, looks, name).is_ok(), "{looks}");
+            for format in Format::ALL.into_iter().filter(|&f| f != looks) {
+                // Some readers make sense of another format's bytes (an OBJ reader skips what
+                // it does not know); those that fail say what the contents look like.
+                if let Err(e) = parse_mesh_bytes(bytes, format, name) {
+                    let hint = format!("(the contents look like {looks}, not {format})");
+                    assert!(e.to_string().ends_with(&hint), "{format}: {e}");
+                }
+            }
+        }
+        assert_eq!(sniff_format(b"3 0 1 2\n"), None);
+        assert_eq!(sniff_format(b"hello\nv 0 0 0\n"), None);
+        // A parse error of a file that looks like what it was read as has no hint.
+        let e = parse_mesh_bytes(b"v 0 0 x\n", Format::Obj, name).unwrap_err();
+        assert!(!e.to_string().contains("look like"), "{e}");
     }
 
     #[test]
