@@ -48,8 +48,10 @@ impl From<FormatArg> for Format {
 pub struct PrepareArgs {
     /// Keep the winding of the triangles as it is. By default triangles wound against their
     /// neighbours are reversed first, then closed components whose triangles face inward
-    /// (negative volume), since curvature signs follow the normals: facing inward, ridges and
-    /// valleys swap, and a triangle wound the other way makes folds of its edges.
+    /// (negative volume; also open ones whose holes are small enough that they have an
+    /// inside, such as a scan with holes), since curvature signs follow the normals: facing
+    /// inward, ridges and valleys swap, and a triangle wound the other way makes folds of its
+    /// edges.
     #[arg(long)]
     pub keep_orientation: bool,
     /// Keep vertices that share a position apart. By default vertices at exactly the same
@@ -141,11 +143,16 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
         );
     }
     if report.inward > 0 {
+        let surfaces = match (report.closed, report.nearly_closed) {
+            (_, 0) => "closed components",
+            (0, _) => "open components with holes too small to change their inside",
+            _ => "closed components (or open ones with small holes)",
+        };
         note!(
-            "{name}: {} of {} closed components faced inward ({} triangles); reversed them so \
+            "{name}: {} of {} {surfaces} faced inward ({} triangles); reversed them so \
              that normals point outward (--keep-orientation to keep them)",
             report.inward,
-            report.closed,
+            report.closed + report.nearly_closed,
             report.inward_faces
         );
     }

@@ -30,8 +30,9 @@ pub struct MeshInfo {
     pub non_manifold_vertices: usize,
     /// Connected components (faces sharing a vertex are connected).
     pub components: usize,
-    /// Closed components whose triangles face inward (negative volume; once wound
-    /// consistently, see [`super::orient_outward`]).
+    /// Closed components, and open ones with holes small enough to have an inside, whose
+    /// triangles face inward (negative volume; once wound consistently, see
+    /// [`super::orient_outward`]).
     pub inward_components: usize,
     /// Components in which some triangles are wound against their neighbours.
     pub inconsistent_components: usize,

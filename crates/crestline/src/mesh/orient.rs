@@ -20,11 +20,20 @@
 //!    known.
 //! 2. *Outward.* Patches that are closed (every edge of their faces has exactly two faces)
 //!    and consistently wound have an inside and an outside: those with negative signed
-//!    volume are reversed. Open ones (a height field, a scan with holes) keep the winding of
-//!    step 1. Where every vertex is manifold and every winding consistent, the patches are
-//!    the connected components (over shared vertices, as in [`super::MeshInfo`]) and are
-//!    found as those, without a walk over the faces; two shells touching at a vertex are
-//!    one component but two patches, each decided by its own volume.
+//!    volume are reversed. Where every vertex is manifold and every winding consistent, the
+//!    patches are the connected components (over shared vertices, as in
+//!    [`super::MeshInfo`]) and are found as those, without a walk over the faces; two shells
+//!    touching at a vertex are one component but two patches, each decided by its own volume.
+//! 3. *Nearly closed.* An open patch (a scan with holes, a part with a face missing) has an
+//!    inside too when its holes are small: each hole (a loop of boundary edges) is closed by
+//!    a fan to the mean of its corners, and the sign of the volume so enclosed decides, if no
+//!    other way of closing the holes could change it. Any other cap over a hole of vector
+//!    area S, within the patch's bounding box (diagonal D), encloses at most |S| D / 3 more
+//!    or less (a cone of that base and height), so the sign counts when the volume exceeds
+//!    Σ |S| D / 3. A scan of a closed object with a few holes, or a box without its lid,
+//!    passes; a height field, a terrain, a hemisphere or a bowl does not (a hemisphere of
+//!    radius r encloses 2.1 r³ with its flat cap, against 3.6 r³ that a cone could change),
+//!    and keeps the winding of step 1: which side is out is then the file's to say.
 //!
 //! [`orientation`] reports what [`orient_outward`] would do without doing it.
 
@@ -45,7 +54,11 @@ pub struct Orientation {
     /// Closed surfaces (patches, step 2 of the module docs) that have a consistent winding
     /// (once rewound).
     pub closed: usize,
-    /// Of those, the ones with negative signed volume (facing inward).
+    /// Open surfaces (patches) whose holes are small enough that they have an inside (step 3
+    /// of the module docs).
+    pub nearly_closed: usize,
+    /// Of the closed and nearly closed surfaces, the ones with negative signed volume
+    /// (facing inward).
     pub inward: usize,
     /// Triangles in the inward surfaces.
     pub inward_faces: usize,
@@ -224,7 +237,7 @@ fn classify(mesh: &TriMesh) -> (Orientation, Reversal) {
     // Step 1 (module docs), and the groups whose volume decides: components where that is
     // the same (the usual mesh, without a walk over its faces), else patches. The volumes
     // below are those of the rewound triangles.
-    let (grouping, has_inside, rewind) =
+    let (grouping, has_inside, orientable, rewind) =
         if report.inconsistent > 0 || topo.count_vertices(VertexKind::NonManifold) > 0 {
             let patches = patches(mesh);
             report.rewound_faces = patches.rewound;
@@ -237,12 +250,18 @@ fn classify(mesh: &TriMesh) -> (Orientation, Reversal) {
             } else {
                 Vec::new()
             };
-            (Grouping::Patches(patches.of_face), has_inside, rewind)
+            (
+                Grouping::Patches(patches.of_face),
+                has_inside,
+                patches.orientable,
+                rewind,
+            )
         } else {
             let has_inside: Vec<bool> = open.iter().map(|&open| !open).collect();
             (
                 Grouping::Components(vertex_component),
                 has_inside,
+                vec![true; count],
                 Vec::new(),
             )
         };
@@ -281,10 +300,27 @@ fn classify(mesh: &TriMesh) -> (Orientation, Reversal) {
         volume[g] += v;
         face_count[g] += n;
     }
+    // Step 3: open orientable groups with small holes.
+    let open_candidates: Vec<bool> = (0..groups)
+        .map(|g| !has_inside[g] && orientable[g])
+        .collect();
+    let capped = if open_candidates.contains(&true) {
+        capped_volumes(mesh, &grouping, &rewind, &open_candidates, centre, &volume)
+    } else {
+        vec![None; groups]
+    };
     let mut inward = vec![false; groups];
-    for g in (0..groups).filter(|&g| has_inside[g]) {
-        report.closed += 1;
-        if volume[g] < 0.0 {
+    for g in 0..groups {
+        let enclosed = if has_inside[g] {
+            report.closed += 1;
+            volume[g]
+        } else if let Some(v) = capped[g] {
+            report.nearly_closed += 1;
+            v
+        } else {
+            continue;
+        };
+        if enclosed < 0.0 {
             report.inward += 1;
             report.inward_faces += face_count[g];
             inward[g] = true;
@@ -296,6 +332,117 @@ fn classify(mesh: &TriMesh) -> (Orientation, Reversal) {
         rewind,
     };
     (report, reversal)
+}
+
+/// Per group, for the groups `candidate` marks: the signed volume (about `centre`) of the
+/// group's surface with each hole closed by a fan to the mean of its corners, when that
+/// volume's sign does not depend on how the holes are closed (step 3 of the module docs);
+/// `volume` is the surface's own. `None` for the rest, and for a group whose boundary edges
+/// do not form loops.
+fn capped_volumes(
+    mesh: &TriMesh,
+    grouping: &Grouping,
+    rewind: &[bool],
+    candidate: &[bool],
+    centre: Vec3,
+    volume: &[f64],
+) -> Vec<Option<f64>> {
+    let topo = mesh.topology();
+    let faces = mesh.faces();
+    let groups = candidate.len();
+    // The boundary edges as the (rewound) faces run through them: (group, from, to).
+    let mut boundary: Vec<(u32, u32, u32)> = faces
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(f, t)| {
+            let g = grouping.of(f, t);
+            let rewound = rewind.get(f) == Some(&true);
+            let edges = if candidate[g] {
+                topo.face_edges(f as u32)
+            } else {
+                [u32::MAX; 3]
+            };
+            edges.into_iter().filter_map(move |e| {
+                if e == u32::MAX || topo.edge_faces(e).len() == 2 {
+                    return None;
+                }
+                let [a, b] = topo.edge(e);
+                let forward = runs_through(t, [a, b]) != rewound;
+                let (from, to) = if forward { (a, b) } else { (b, a) };
+                Some((g as u32, from, to))
+            })
+        })
+        .collect();
+    boundary.par_sort_unstable();
+    // Per group: the bounding box's diagonal.
+    let mut low = vec![Vec3::repeat(f64::INFINITY); groups];
+    let mut high = vec![Vec3::repeat(f64::NEG_INFINITY); groups];
+    for (f, t) in faces.iter().enumerate() {
+        let g = grouping.of(f, t);
+        if candidate[g] {
+            for &v in t {
+                let p = mesh.position(v);
+                low[g] = low[g].inf(&p);
+                high[g] = high[g].sup(&p);
+            }
+        }
+    }
+    // Walk the loops: each boundary edge is followed by an unused one from its end.
+    let mut loops_close = vec![true; groups];
+    let mut caps = vec![0.0f64; groups];
+    let mut hole_area = vec![0.0f64; groups];
+    let mut used = vec![false; boundary.len()];
+    let mut corners: Vec<Vec3> = Vec::new();
+    for first in 0..boundary.len() {
+        if used[first] {
+            continue;
+        }
+        let (g, start, mut at) = boundary[first];
+        used[first] = true;
+        corners.clear();
+        corners.push(mesh.position(start));
+        while at != start {
+            let from = boundary.partition_point(|&(h, v, _)| (h, v) < (g, at));
+            let next = (from..boundary.len())
+                .take_while(|&i| (boundary[i].0, boundary[i].1) == (g, at))
+                .find(|&i| !used[i]);
+            let Some(i) = next else {
+                loops_close[g as usize] = false;
+                break;
+            };
+            used[i] = true;
+            corners.push(mesh.position(at));
+            at = boundary[i].2;
+        }
+        if at != start {
+            continue;
+        }
+        let m = corners.iter().sum::<Vec3>() / corners.len() as f64;
+        let g = g as usize;
+        let mut area = Vec3::zeros();
+        for (i, &p) in corners.iter().enumerate() {
+            let q = corners[(i + 1) % corners.len()];
+            area += (p - m).cross(&(q - m)) * 0.5;
+            // The cap runs through the edge the other way than the surface.
+            caps[g] += tetrahedron_at(centre, [q, p, m]);
+        }
+        hole_area[g] += area.norm();
+    }
+    (0..groups)
+        .map(|g| {
+            let enclosed = volume[g] + caps[g];
+            let diagonal = (high[g] - low[g]).norm();
+            // A patch without volume (two triangles back to back between non-manifold
+            // edges) has only rounding to tell its sides apart.
+            let doubt = (hole_area[g] * diagonal / 3.0).max(1e-9 * diagonal.powi(3));
+            (candidate[g] && loops_close[g] && enclosed.abs() > doubt).then_some(enclosed)
+        })
+        .collect()
+}
+
+/// Signed volume of the tetrahedron of the triangle `[a, b, c]` and `centre`.
+fn tetrahedron_at(centre: Vec3, [a, b, c]: [Vec3; 3]) -> f64 {
+    (a - centre).dot(&(b - centre).cross(&(c - centre))) / 6.0
 }
 
 /// Signed volume of the tetrahedron of `triangle` and `centre` (positive when the triangle
@@ -476,6 +623,68 @@ mod tests {
         let topo = down.topology();
         let open = (0..down.num_vertices() as u32).filter(|&v| topo.has_open_edge(v));
         assert_eq!(open.count(), 4 * 8);
+    }
+
+    /// The faces of `mesh` for which `keep` holds (all vertices kept).
+    fn keep_faces(mesh: &TriMesh, keep: impl Fn(&[Vec3; 3]) -> bool) -> TriMesh {
+        let faces = (mesh.faces().iter())
+            .filter(|t| keep(&t.map(|v| mesh.position(v))))
+            .copied()
+            .collect();
+        TriMesh::new(mesh.positions().to_vec(), faces).unwrap()
+    }
+
+    #[test]
+    fn an_open_surface_with_small_holes_is_turned_outward_and_a_hemisphere_is_not() {
+        // A sphere wound inward with three holes (a scan): nearly closed, turned outward.
+        let sphere = flipped(&shapes::icosphere(1.0, 3));
+        let holes = [Vec3::x(), -Vec3::y(), Vec3::new(0.0, 0.6, 0.8)];
+        let scan = keep_faces(&sphere, |p| {
+            let c = (p[0] + p[1] + p[2]) / 3.0;
+            holes.iter().all(|h| (c.normalize() - h).norm() > 0.25)
+        });
+        assert!(scan.num_faces() < sphere.num_faces() - 20);
+        let (report, reversed) = orientation(&scan);
+        assert_eq!(
+            (report.closed, report.nearly_closed, report.inward),
+            (0, 1, 1)
+        );
+        assert!(reversed.iter().all(|&r| r));
+        let (outward, _) = orient_outward(scan).unwrap();
+        assert_eq!(orientation(&outward).0.inward, 0);
+        // A unit box without its lid (z = 1), wound inward: no lid over the hole, flat or a
+        // cone inside the box, could change the sign (volume 1 against √3 / 3).
+        let corners = (0..8)
+            .map(|i| Vec3::new(f64::from(i & 1), f64::from((i >> 1) & 1), f64::from(i >> 2)))
+            .collect();
+        let outward_sides = [
+            [0, 2, 1],
+            [1, 2, 3],
+            [0, 1, 5],
+            [0, 5, 4],
+            [1, 3, 7],
+            [1, 7, 5],
+            [3, 2, 6],
+            [3, 6, 7],
+            [2, 0, 4],
+            [2, 4, 6],
+        ];
+        let inward_sides = outward_sides.map(|[a, b, c]| [a, c, b]).to_vec();
+        let open_box = TriMesh::new(corners, inward_sides).unwrap();
+        let (report, reversed) = orientation(&open_box);
+        assert_eq!((report.nearly_closed, report.inward), (1, 1));
+        assert!(reversed.iter().all(|&r| r));
+        let (fixed, _) = orient_outward(open_box).unwrap();
+        assert_eq!(fixed.faces(), &outward_sides[..]);
+        // A hemisphere wound either way keeps its winding: its hole is as large as it.
+        for hemisphere in [
+            keep_faces(&sphere, |p| p.iter().all(|q| q.z >= -1e-9)),
+            keep_faces(&flipped(&sphere), |p| p.iter().all(|q| q.z >= -1e-9)),
+        ] {
+            let (report, reversed) = orientation(&hemisphere);
+            assert_eq!((report.nearly_closed, report.inward), (0, 0));
+            assert!(reversed.iter().all(|&r| !r));
+        }
     }
 
     /// `mesh` with the faces `f` where `pick(f)` wound the other way.

@@ -115,6 +115,34 @@ fn triangles_wound_against_their_neighbours_are_rewound_first() {
 }
 
 #[test]
+fn a_scan_with_holes_wound_inward_is_oriented_first() {
+    // The ellipsoid wound inward with holes around the ends of its two shorter axes, away
+    // from its crest lines (a scan): still a ridge, not a valley.
+    let outward = shapes::ellipsoid(A, B, C, 3);
+    let holes = [[0.0, B, 0.0], [0.0, 0.0, C], [0.0, 0.0, -C]];
+    let faces: Vec<[u32; 3]> = (outward.faces().iter())
+        .filter(|t| {
+            let c = t
+                .iter()
+                .map(|&v| outward.position(v))
+                .sum::<crestline::Vec3>()
+                / 3.0;
+            holes
+                .iter()
+                .all(|h| (c - crestline::Vec3::from(*h)).norm() > 0.3 * C)
+        })
+        .map(|t| [t[0], t[2], t[1]])
+        .collect();
+    assert!(faces.len() + 10 < outward.num_faces());
+    let scan = crestline::TriMesh::new(outward.positions().to_vec(), faces).unwrap();
+    let options = ExtractOptions::for_method(Method::Hpw);
+    let found = crestline::extract::extract(&scan, &options).unwrap();
+    let o = found.stats.orientation;
+    assert_eq!((o.closed, o.nearly_closed, o.inward), (0, 1, 1));
+    assert_eq!((found.stats.ridges, found.stats.valleys), (1, 0));
+}
+
+#[test]
 fn an_ellipsoid_wound_inward_is_oriented_first_unless_told_not_to() {
     let outward = shapes::ellipsoid(A, B, C, 3);
     let faces = outward.faces().iter().map(|t| [t[0], t[2], t[1]]).collect();
