@@ -9,6 +9,13 @@
 //!
 //! Pixel coordinates have x to the right and y down, with pixel (i, j) covering
 //! [i, i+1) × [j, j+1). Depth is the distance along the viewing direction, smaller nearer.
+//!
+//! The camera's centre is the middle of the fitted points' box in all three view directions,
+//! depth included, and [`Camera::project`] subtracts it in `f64` before anything else: pixel
+//! coordinates and depths are then small numbers relative to the model, whatever its
+//! distance from the origin. The rasteriser keeps depths in `f32`; a depth measured from the
+//! origin would, for georeferenced data (coordinates of 1e6–1e7), keep only about one unit
+//! of resolution and the z-buffer would mix near and far surfaces.
 
 use super::UpAxis;
 use crate::mesh::Vec3;
@@ -64,20 +71,21 @@ impl Camera {
 
     /// The same view, scaled and centred so that `points` fill `viewport` less a border of
     /// `margin` times its size on each side. With no points, or all at one place, the
-    /// scale is left unchanged (or one pixel per unit along a flat direction).
+    /// scale is left unchanged (or one pixel per unit along a flat direction). Depths are
+    /// then measured from the middle of the points' depth range.
     pub fn fit(
         mut self,
         points: impl Iterator<Item = Vec3>,
         viewport: Viewport,
         margin: f64,
     ) -> Camera {
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
         for p in points {
-            let uv = [p.dot(&self.right), p.dot(&self.up)];
-            for k in 0..2 {
-                lo[k] = lo[k].min(uv[k]);
-                hi[k] = hi[k].max(uv[k]);
+            let uvw = [p.dot(&self.right), p.dot(&self.up), p.dot(&self.toward)];
+            for k in 0..3 {
+                lo[k] = lo[k].min(uvw[k]);
+                hi[k] = hi[k].max(uvw[k]);
             }
         }
         self.pixel_center = [
@@ -99,12 +107,13 @@ impl Camera {
         if fits.is_finite() && fits > 0.0 {
             self.scale = fits;
         }
-        let (u, v) = ((lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0);
-        self.center = self.right * u + self.up * v;
+        let [u, v, w] = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
+        self.center = self.right * u + self.up * v + self.toward * w;
         self
     }
 
-    /// Pixel coordinates (x right, y down) and depth (smaller is nearer) of `p`.
+    /// Pixel coordinates (x right, y down) and depth (smaller is nearer, 0 at the camera's
+    /// centre) of `p`.
     #[inline]
     pub fn project(&self, p: &Vec3) -> [f64; 3] {
         let d = p - self.center;
@@ -193,6 +202,39 @@ mod tests {
         );
         // The nearer point (larger z, towards the camera) has the smaller depth.
         assert!(b[2] < a[2]);
+    }
+
+    #[test]
+    fn a_model_far_from_the_origin_projects_as_at_the_origin() {
+        // Georeferenced coordinates: the depth, like x and y, is measured from the middle
+        // of the fitted points, so it stays small (the rasteriser keeps it in f32).
+        let pts = [
+            Vec3::new(-1.0, -0.5, 0.25),
+            Vec3::new(3.0, 1.5, 2.0),
+            Vec3::new(0.5, 2.0, -1.0),
+        ];
+        let far = Vec3::new(1e7, -2e7, 1e7);
+        let vp = Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: 200.0,
+            height: 100.0,
+        };
+        let near_camera = Camera::orbit(30.0, 20.0, UpAxis::Z).fit(pts.into_iter(), vp, 0.1);
+        let far_camera =
+            Camera::orbit(30.0, 20.0, UpAxis::Z).fit(pts.iter().map(|p| p + far), vp, 0.1);
+        let depths = pts.map(|p| near_camera.project(&p)[2]);
+        let (lo, hi) = (
+            depths.iter().copied().fold(f64::INFINITY, f64::min),
+            depths.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        );
+        assert!((lo + hi).abs() < 1e-12, "depth 0 is the middle: {depths:?}");
+        for p in pts {
+            let (a, b) = (near_camera.project(&p), far_camera.project(&(p + far)));
+            for k in 0..3 {
+                assert!((a[k] - b[k]).abs() < 1e-6, "{a:?} {b:?}");
+            }
+        }
     }
 
     #[test]

@@ -81,6 +81,10 @@ impl VisibilityBuffer {
 }
 
 /// Projects every vertex with `camera`.
+///
+/// The depth is narrowed to `f32` only after the projection, which measures it from the
+/// camera's centre (see `camera.rs`): it is then of the order of the model's size, and
+/// `f32` resolves it to about 1e-7 of that wherever the model lies.
 pub fn project_vertices(mesh: &TriMesh, camera: &Camera) -> Vec<ScreenVertex> {
     mesh.positions()
         .par_iter()
