@@ -76,10 +76,19 @@ pub fn run(args: &Args) -> Result<()> {
     bar.finish_and_clear();
 
     match args.stats {
-        Some(StatsFormat::Json) => println!(
-            "{}",
-            serde_json::to_string_pretty(&summary_json(&outcomes))?
-        ),
+        Some(StatsFormat::Json) => {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&summary_json(&outcomes))?
+            );
+            // The JSON on standard output has the errors too; stderr names them so that the
+            // last line below does not point at nothing.
+            for o in &outcomes {
+                if let Err(e) = &o.result {
+                    eprintln!("{}: FAILED: {}", o.input.display(), crate::error_chain(e));
+                }
+            }
+        }
         _ => eprint!("{}", summary_table(&outcomes)),
     }
     let failed = outcomes.iter().filter(|o| o.result.is_err()).count();

@@ -512,6 +512,12 @@ fn a_batch_writes_one_file_per_mesh_and_reports_failures() {
         "{}",
         stderr(&out)
     );
+    // The failure is named on stderr as well ("see above"), `-q` or not.
+    assert!(
+        stderr(&out).contains("broken.obj: FAILED: "),
+        "{}",
+        stderr(&out)
+    );
     // Two inputs that would write the same file are refused before any work.
     let err = fails(run(&[
         "extract",
