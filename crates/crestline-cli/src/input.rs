@@ -134,6 +134,18 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
             count(report.rewound_faces, "triangle was", "triangles were")
         );
     }
+    // A triangle soup (every triangle its own component: corners stored per triangle and
+    // not exactly equal, so that the weld could not join them) has no surface to fit: no
+    // lines, silently, without this.
+    if mesh.num_faces() >= 100 && 2 * report.components > mesh.num_faces() {
+        eprintln!(
+            "{name}: warning: {} components for {} triangles: the triangles hardly share \
+             corners (a triangle soup whose copies of a corner differ slightly?); curvature \
+             and lines need a connected surface",
+            report.components,
+            mesh.num_faces()
+        );
+    }
     // A warning, not a note: the lines there are wrong, `-q` or not.
     if report.non_orientable > 0 {
         eprintln!(

@@ -87,6 +87,14 @@ fn a_triangle_soup_gives_the_lines_of_the_joined_surface() {
     let (apart, note) = extract(&soup, &["--no-weld"]);
     assert_eq!(apart["lines"], 0, "{apart}");
     assert!(!note.contains("welded"), "{note}");
+    // Not in silence: a warning says the triangles do not share corners, `-q` or not.
+    let (_, warning) = extract(&soup, &["--no-weld", "-q"]);
+    assert!(
+        warning.contains("warning:") && warning.contains("triangle soup"),
+        "{warning}"
+    );
+    let (_, welded_note) = extract(&soup, &[]);
+    assert!(!welded_note.contains("triangle soup"), "{welded_note}");
 }
 
 #[test]
