@@ -11,7 +11,9 @@
 //!
 //! Every reader takes the whole file as bytes and parses it in one pass with a hand-written
 //! scanner, for speed and so that every error names the file and the line (text) or byte
-//! offset (binary) where it was found. Polygons are fan-triangulated. The readers produce
+//! offset (binary) where it was found. Polygons become triangles in `triangulate.rs`: the fan
+//! from the first corner when none of its triangles folds back (every convex polygon), ears
+//! cut along the outline otherwise. The readers produce
 //! [`MeshData`] (see [`parse_mesh_bytes`]); [`read_mesh`] and [`read_mesh_bytes`] then build a
 //! [`TriMesh`], which drops and counts triangles with a repeated index or zero area.
 //!
@@ -36,6 +38,7 @@ mod off;
 mod ply;
 mod stl;
 mod text;
+mod triangulate;
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -129,7 +132,7 @@ impl std::fmt::Display for Format {
 pub struct MeshData {
     /// Vertex positions in file order.
     pub positions: Vec<[f64; 3]>,
-    /// Triangles (polygons fan-triangulated), indices into `positions`.
+    /// Triangles (polygons triangulated), indices into `positions`.
     pub faces: Vec<[u32; 3]>,
 }
 
@@ -148,6 +151,27 @@ impl MeshData {
 
 /// Reads a mesh, choosing the format by extension (case-insensitive) unless `format` is given.
 ///
+/// ```
+/// use crestline::io::{Format, WriteOptions, read_mesh, write_mesh};
+///
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let folder = tempfile::tempdir()?;
+/// let path = folder.path().join("sphere.ply");
+/// let sphere = crestline::shapes::icosphere(1.0, 2);
+/// write_mesh(&path, &sphere, Format::Ply, &WriteOptions::default())?;
+///
+/// // The format from the extension (`Some(Format::Ply)` would say it whatever the name).
+/// let mesh = read_mesh(&path, None)?;
+/// assert_eq!((mesh.num_vertices(), mesh.num_faces()), (162, 320));
+///
+/// // A missing file is an error that names it.
+/// let missing = folder.path().join("missing.obj");
+/// let e = read_mesh(&missing, None).unwrap_err();
+/// assert!(e.to_string().contains("missing.obj"));
+/// # Ok(())
+/// # }
+/// ```
+///
 /// # Errors
 /// [`Error::Io`] when the file cannot be read, [`Error::InvalidInput`] for an unknown
 /// extension, [`Error::Parse`] naming the file and position for malformed contents.
@@ -155,7 +179,7 @@ pub fn read_mesh(path: &Path, format: Option<Format>) -> Result<TriMesh> {
     read_mesh_data(path, format)?.into_mesh(path)
 }
 
-/// Reads a mesh's positions and triangles as the file holds them (polygons fan-triangulated),
+/// Reads a mesh's positions and triangles as the file holds them (polygons triangulated),
 /// without building connectivity: for callers that hand the arrays on (the Python bindings).
 ///
 /// # Errors
@@ -536,14 +560,6 @@ pub fn write_mesh_to<W: Write>(
     }
 }
 
-/// Appends the fan triangulation of a polygon (`corners[0]`, `corners[i]`, `corners[i + 1]`).
-#[inline]
-fn push_fan(faces: &mut Vec<[u32; 3]>, corners: &[u32]) {
-    if let Some((&first, rest)) = corners.split_first() {
-        faces.extend(rest.windows(2).map(|w| [first, w[0], w[1]]));
-    }
-}
-
 /// Writes a point as `x y z` and a newline, each coordinate as [`write_f64`] (the vertex lines
 /// of the OBJ and OFF writers).
 ///
@@ -765,13 +781,6 @@ mod tests {
         }
         // (Devices take the same path as pipes; not tried here: had the fix gone, the test
         // would replace /dev/null of the machine that runs it.)
-    }
-
-    #[test]
-    fn fan_triangulation() {
-        let mut faces = Vec::new();
-        push_fan(&mut faces, &[0, 1, 2, 3, 4]);
-        assert_eq!(faces, vec![[0, 1, 2], [0, 2, 3], [0, 3, 4]]);
     }
 
     #[test]

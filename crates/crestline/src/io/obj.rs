@@ -4,8 +4,9 @@
 //! (B1), as collected at <https://paulbourke.net/dataformats/obj/>.
 //!
 //! Reading keeps `v` (the first three numbers; a fourth `w` or the three colour components
-//! some exporters append are ignored) and `f` (polygons, fan-triangulated). A face corner may
-//! be `v`, `v/vt`, `v//vn` or `v/vt/vn`; only `v` is used. Indices are 1-based, or negative
+//! some exporters append are ignored) and `f` (polygons, triangulated by
+//! [`super::triangulate`]). A face corner may be `v`, `v/vt`, `v//vn` or `v/vt/vn`; only `v`
+//! is used. Indices are 1-based, or negative
 //! for "relative to the last vertex read"; a positive index may refer to a vertex defined
 //! later in the file. Every other record (`vt`, `vn`, `l`, `o`, `g`, `s`, `usemtl`,
 //! `mtllib`, ...) and `#` comments are ignored.
@@ -21,7 +22,8 @@ use super::text::{
     Lines, Source, Tokens, is_blank, is_integer_token, is_space, parse_i64, short_decimal_prefix,
     show, vertex,
 };
-use super::{MeshData, push_fan, write_xyz};
+use super::triangulate::Triangulator;
+use super::{MeshData, write_xyz};
 use crate::error::Result;
 use crate::mesh::TriMesh;
 
@@ -35,6 +37,7 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
     let mut positions = Vec::with_capacity(bytes.len() / 100);
     let mut faces = Vec::with_capacity(bytes.len() / 50);
     let mut corners: Vec<u32> = Vec::with_capacity(8);
+    let mut polygons = Triangulator::default();
     // Faces whose largest index pointed past the vertices read so far, checked at the end
     // once all vertices are known: (line, largest 0-based index).
     let mut forward_references: Vec<(usize, u64)> = Vec::new();
@@ -95,7 +98,7 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
                 if largest >= positions.len() as u64 {
                     forward_references.push((line, largest));
                 }
-                push_fan(&mut faces, &corners);
+                polygons.push(&mut faces, &corners, &positions);
             }
             _ => {}
         }
@@ -117,6 +120,7 @@ pub(super) fn parse(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
             positions.len()
         )));
     }
+    polygons.finish(&mut faces, &positions);
     Ok(MeshData { positions, faces })
 }
 

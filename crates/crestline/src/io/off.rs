@@ -8,7 +8,9 @@
 //! [edges]` (possibly on the header line itself), then one vertex per line (the first three
 //! numbers; normals, colours and texture coordinates that follow are skipped), then one face
 //! per line: `n i0 ... i(n-1)` with 0-based indices, optionally followed by a colour.
-//! Polygons are fan-triangulated. `#` starts a comment; blank lines are skipped.
+//! Polygons are triangulated (see [`super::triangulate`]): fanned in the pieces, and those
+//! whose fan folds cut again once all vertices are read. `#` starts a comment; blank lines
+//! are skipped.
 //!
 //! The body is cut at line breaks into pieces parsed on all cores. A first pass counts the
 //! lines of each piece (a fast search for line breaks), which numbers the records when every
@@ -38,7 +40,8 @@ use super::text::{
     Lines, Source, Tokens, is_integer_token, is_space, line_at, parse_count, parse_i64, show,
     vertex, vertex_line,
 };
-use super::{MeshData, push_fan, write_xyz};
+use super::triangulate::Triangulator;
+use super::{MeshData, write_xyz};
 use crate::error::Result;
 use crate::mesh::TriMesh;
 
@@ -204,6 +207,8 @@ struct Body<'a> {
 struct Piece {
     /// Its triangles (its vertices went straight to their place in the positions).
     faces: Vec<[u32; 3]>,
+    /// Its polygons, fanned until the positions they need are all read.
+    polygons: Triangulator,
     /// Records read.
     records: usize,
     /// Lines without content met before the last record read (or lines beyond the count
@@ -267,7 +272,7 @@ impl Body<'_> {
             slots.push(mine);
             rest = tail;
         }
-        let parsed: Vec<Piece> = pieces
+        let mut parsed: Vec<Piece> = pieces
             .par_iter()
             .zip(first_record.par_iter().zip(records.par_iter()))
             .zip(slots.into_par_iter())
@@ -286,6 +291,9 @@ impl Body<'_> {
             read += piece.records;
             triangles += piece.faces.len();
         }
+        parsed
+            .par_iter_mut()
+            .for_each(|piece| piece.polygons.finish(&mut piece.faces, &positions));
         let mut faces = Vec::with_capacity(triangles);
         for piece in parsed {
             faces.extend_from_slice(&piece.faces);
@@ -352,7 +360,7 @@ impl Body<'_> {
             } else {
                 let f = record - self.vertex_count;
                 face(head, tokens, f, self.vertex_count, &mut corners)
-                    .map(|()| push_fan(&mut piece.faces, &corners))
+                    .map(|()| piece.polygons.push_later(&mut piece.faces, &corners))
             };
             if let Err(message) = result {
                 piece.error = Some((line_start, message));

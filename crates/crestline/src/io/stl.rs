@@ -29,18 +29,20 @@
 //! Ascii: `solid name`, then `facet normal nx ny nz`, `outer loop`, three `vertex x y z`,
 //! `endloop`, `endfacet`, ..., `endsolid name`; keywords are matched case-insensitively and
 //! several solids may follow each other. A loop with more than three vertices is
-//! fan-triangulated. The nesting is checked, so that a file cut inside a facet (after `facet
-//! normal ...`, inside a loop) or missing an `endloop` or `endfacet` is an error naming the
-//! line, not a mesh short of triangles. A missing `endsolid` after complete facets is
-//! tolerated, as other readers tolerate it (a file cut exactly between two facets cannot be
-//! told from it). A `solid` line alone is left to the "no vertices" error of every format.
+//! triangulated as a polygon (see [`super::triangulate`]). The nesting is checked, so that a
+//! file cut inside a facet (after `facet normal ...`, inside a loop) or missing an `endloop`
+//! or `endfacet` is an error naming the line, not a mesh short of triangles. A missing
+//! `endsolid` after complete facets is tolerated, as other readers tolerate it (a file cut
+//! exactly between two facets cannot be told from it). A `solid` line alone is left to the
+//! "no vertices" error of every format.
 //!
 //! Writing emits binary STL; positions are rounded to `f32`, so it is the one lossy format.
 
 use std::io::Write;
 
+use super::MeshData;
 use super::text::{Lines, Source, Tokens, coordinate, show};
-use super::{MeshData, push_fan};
+use super::triangulate::Triangulator;
 use crate::error::{Error, Result};
 use crate::mesh::weld::PositionMap;
 use crate::mesh::{TriMesh, Vec3};
@@ -229,6 +231,7 @@ fn parse_ascii(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
     let mut welder = Welder::with_capacity(bytes.len() / 500);
     let mut faces = Vec::with_capacity(bytes.len() / 250);
     let mut corners: Vec<u32> = Vec::with_capacity(3);
+    let mut polygons = Triangulator::default();
     let mut nesting = Nesting::Outside;
     let mut last_line = 0;
     for (line, text) in Lines::new(bytes) {
@@ -287,7 +290,7 @@ fn parse_ascii(bytes: &[u8], source: Source<'_>) -> Result<MeshData> {
             ));
         }
         if next == Nesting::Facet && nesting == Nesting::Loop {
-            push_fan(&mut faces, &corners);
+            polygons.push(&mut faces, &corners, &welder.positions);
         }
         nesting = next;
     }

@@ -305,6 +305,104 @@ fn obj_polygons_with_many_corners_are_fan_triangulated() {
     reads("a.obj", text, n, n - 2, 0);
 }
 
+/// A prism of height 1 over a U (a 3 × 3 square with a 1 × 2 notch cut from the middle of its
+/// top side), its caps one 8-gon each, as CAD exporters and Blender write it: positions, then
+/// polygons (0-based, wound to face out).
+fn u_prism() -> (Vec<[f64; 3]>, Vec<Vec<usize>>) {
+    let outline = [
+        [0., 0.],
+        [3., 0.],
+        [3., 3.],
+        [2., 3.],
+        [2., 1.],
+        [1., 1.],
+        [1., 3.],
+        [0., 3.],
+    ];
+    let positions: Vec<[f64; 3]> = [0.0, 1.0]
+        .iter()
+        .flat_map(|&z| outline.iter().map(move |&[x, y]| [x, y, z]))
+        .collect();
+    let mut polygons = vec![(0..8).rev().collect::<Vec<_>>(), (8..16).collect()];
+    polygons.extend((0..8).map(|i| vec![i, (i + 1) % 8, (i + 1) % 8 + 8, i + 8]));
+    (positions, polygons)
+}
+
+#[test]
+fn non_convex_polygons_are_cut_inside_their_outline() {
+    let (positions, polygons) = u_prism();
+    let join = |p: &[usize], base: usize| {
+        p.iter()
+            .map(|i| (i + base).to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let coordinates = |p: &[f64; 3]| format!("{} {} {}", p[0], p[1], p[2]);
+    let mut obj = String::new();
+    let mut off = format!("OFF\n{} {} 0\n", positions.len(), polygons.len());
+    let vertex_element = format!(
+        "element vertex {}\nproperty double x\nproperty double y\nproperty double z\n",
+        positions.len()
+    );
+    let face_element = format!(
+        "element face {}\nproperty list uchar int vertex_indices\n",
+        polygons.len()
+    );
+    let (mut ply_vertices, mut ply_faces) = (String::new(), String::new());
+    for p in &positions {
+        obj += &format!("v {}\n", coordinates(p));
+        off += &format!("{}\n", coordinates(p));
+        ply_vertices += &format!("{}\n", coordinates(p));
+    }
+    for p in &polygons {
+        obj += &format!("f {}\n", join(p, 1));
+        off += &format!("{} {}\n", p.len(), join(p, 0));
+        ply_faces += &format!("{} {}\n", p.len(), join(p, 0));
+    }
+    let ply_head = "ply\nformat ascii 1.0\n";
+    let ply =
+        format!("{ply_head}{vertex_element}{face_element}end_header\n{ply_vertices}{ply_faces}");
+    // The same prism with the faces before the vertices they use (both formats allow it).
+    let ply_faces_first =
+        format!("{ply_head}{face_element}{vertex_element}end_header\n{ply_faces}{ply_vertices}");
+    let (vertices, faces) = obj.split_at(obj.find('f').unwrap());
+    let obj_faces_first = format!("{faces}{vertices}");
+    for (name, text) in [
+        ("u.obj", &obj),
+        ("faces-first.obj", &obj_faces_first),
+        ("u.off", &off),
+        ("u.ply", &ply),
+        ("faces-first.ply", &ply_faces_first),
+    ] {
+        let mesh = read(name, text.as_bytes()).unwrap();
+        let info = mesh.info();
+        assert!(info.closed, "{name}: {info:?}");
+        assert_eq!(info.inconsistent_components, 0, "{name}");
+        // 6 triangles per cap, 2 per side, none flat.
+        assert_eq!(
+            (mesh.num_faces(), mesh.degenerate_faces()),
+            (28, 0),
+            "{name}"
+        );
+        let volume = crestline::mesh::signed_volume(&mesh);
+        assert!((volume - 7.0).abs() < 1e-12, "{name}: volume {volume}");
+        // The triangles of each cap face out as the cap does, and cover it once: a fan folds
+        // some over the notch (inward, and adding to the area; the volume stays right).
+        let mut area = 0.0;
+        for f in 0..mesh.num_faces() {
+            let [a, b, c] = mesh.triangle(f);
+            let normal = (b - a).cross(&(c - a));
+            area += normal.norm() / 2.0;
+            if a.z == b.z && b.z == c.z {
+                let outward = if a.z == 0.0 { -1.0 } else { 1.0 };
+                assert!(normal.z * outward > 0.0, "{name}: triangle {f} faces in");
+            }
+        }
+        // Caps 2 × 7, sides 16 (the perimeter) × 1.
+        assert!((area - 30.0).abs() < 1e-12, "{name}: area {area}");
+    }
+}
+
 #[test]
 fn obj_degenerate_and_duplicate_faces_are_counted() {
     let v = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\n";

@@ -7,11 +7,11 @@
 //! properties. From the `vertex` element only `x`, `y`, `z` are kept (any scalar type; the
 //! sized aliases `int8` ... `float64` are accepted too). From `face` the list named
 //! `vertex_indices` (or `vertex_index`) is kept, with any integer count and index types;
-//! polygons are fan-triangulated. A `tristrips` element holds triangle strips in one list
-//! (`vertex_indices`, or its first list): `-1` restarts a strip, every second triangle has
-//! its winding flipped to keep the orientation, and triangles with a repeated index (the
-//! stitching between strips) are dropped. Every other element and property is skipped, in
-//! all three encodings.
+//! polygons are triangulated (see [`super::triangulate`]). A `tristrips` element holds
+//! triangle strips in one list (`vertex_indices`, or its first list): `-1` restarts a strip,
+//! every second triangle has its winding flipped to keep the orientation, and triangles with
+//! a repeated index (the stitching between strips) are dropped. Every other element and
+//! property is skipped, in all three encodings.
 //!
 //! Errors give a line for the header and the ascii body, and a byte offset in the file for
 //! the binary body. Counts must be non-negative integers, list lengths too. In ascii, a value
@@ -35,8 +35,9 @@ mod header;
 mod tests;
 mod writer;
 
+use super::MeshData;
 use super::text::{Lines, Source, Words, parse_f64, parse_i64, show};
-use super::{MeshData, push_fan};
+use super::triangulate::Triangulator;
 use crate::error::{Location, Result};
 use ascii::Ascii;
 use binary::{Binary, Block, decode_f64};
@@ -163,6 +164,7 @@ fn decode<V: Values>(
     );
     let mut faces = Vec::new();
     let mut corners: Vec<u32> = Vec::new();
+    let mut polygons = Triangulator::default();
 
     for element in &header.elements {
         let record_error = |values: &V, record: usize, fault: Fault| {
@@ -205,6 +207,7 @@ fn decode<V: Values>(
                     &mut point,
                     &mut corners,
                     &mut faces,
+                    &mut polygons,
                 )
                 .map_err(|e| match e {
                     ValueError::Fault(fault) => record_error(values, record, fault),
@@ -228,6 +231,7 @@ fn decode<V: Values>(
             }
         }
     }
+    polygons.finish(&mut faces, &positions);
     Ok(MeshData { positions, faces })
 }
 
@@ -297,6 +301,7 @@ fn read_property<V: Values>(
     point: &mut [f64; 3],
     corners: &mut Vec<u32>,
     faces: &mut Vec<[u32; 3]>,
+    polygons: &mut Triangulator,
 ) -> Result<(), ValueError> {
     match (property.kind, property.role) {
         (Kind::Scalar(ty), Role::Coordinate(axis)) => point[axis] = values.float(ty)?,
@@ -307,7 +312,9 @@ fn read_property<V: Values>(
                 return Err(ValueError::Message(format!("negative list length {n}")));
             };
             match role {
-                Role::Polygon => read_polygon(values, n, item, vertex_count, corners, faces)?,
+                Role::Polygon => {
+                    read_polygon(values, n, item, vertex_count, corners, faces, polygons)?;
+                }
                 Role::Strips => read_strips(values, n, item, vertex_count, faces)?,
                 _ => values.skip(item, n)?,
             }
@@ -334,6 +341,7 @@ fn read_polygon<V: Values>(
     vertex_count: usize,
     corners: &mut Vec<u32>,
     faces: &mut Vec<[u32; 3]>,
+    polygons: &mut Triangulator,
 ) -> Result<(), ValueError> {
     if n < 3 {
         return Err(ValueError::Message(format!(
@@ -353,7 +361,8 @@ fn read_polygon<V: Values>(
     for _ in 0..n {
         corners.push(checked_index(values.int(item)?, vertex_count)?);
     }
-    push_fan(faces, corners);
+    // Triangulated once all vertices are read (a face element may come first).
+    polygons.push_later(faces, corners);
     Ok(())
 }
 
