@@ -120,11 +120,14 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
     if args.keep_orientation {
         return Ok(Prepared { mesh, weld, given });
     }
+    // Classified once, for the welded mesh and the mesh as read alike.
+    let (report, reversed) = crestline::mesh::orientation(&mesh);
+    let changed = report.inward > 0 || report.rewound_faces > 0;
     let given = match given {
-        Some(given) => Some(turned_like(given, &mesh, &weld)?),
-        None => None,
+        Some(given) if changed => Some(turned_like(given, &mesh, &weld, &reversed)?),
+        given => given,
     };
-    let (mesh, report) = crestline::mesh::orient_outward(mesh)?;
+    let mesh = crestline::mesh::reverse_faces(mesh, &reversed);
     let count =
         |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     if report.rewound_faces > 0 {
@@ -172,14 +175,16 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
 }
 
 /// The mesh as read (`given`), turned where [`crestline::mesh::orient_outward`] turns the
-/// mesh `welded` from it by `weld`: each triangle read is reversed when the welded triangle
+/// mesh `welded` from it by `weld` (`reversed`: its flags per welded face, from
+/// [`crestline::mesh::orientation`]): each triangle read is reversed when the welded triangle
 /// over the same corners is (a triangle the weld dropped as a repeat follows the one it
 /// repeats; one the weld made degenerate has none and stays as it is).
-fn turned_like(given: TriMesh, welded: &TriMesh, weld: &Weld) -> Result<TriMesh> {
-    let (report, reversed) = crestline::mesh::orientation(welded);
-    if report.inward == 0 && report.rewound_faces == 0 {
-        return Ok(given);
-    }
+fn turned_like(
+    given: TriMesh,
+    welded: &TriMesh,
+    weld: &Weld,
+    reversed: &[bool],
+) -> Result<TriMesh> {
     let corners = |t: [u32; 3]| {
         let mut key = t;
         key.sort_unstable();
@@ -188,7 +193,7 @@ fn turned_like(given: TriMesh, welded: &TriMesh, weld: &Weld) -> Result<TriMesh>
     let turned: std::collections::HashMap<[u32; 3], bool> = welded
         .faces()
         .iter()
-        .zip(&reversed)
+        .zip(reversed)
         .map(|(&t, &r)| (corners(t), r))
         .collect();
     let faces = given

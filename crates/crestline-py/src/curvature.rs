@@ -92,8 +92,7 @@ pub fn curvature<'py>(
     let c = py
         .detach(|| {
             let creases = find_creases(&mesh, &CreaseOptions::DEFAULT.with_angle(angle))?;
-            let split = (!creases.is_empty()).then_some(&creases.edges[..]);
-            estimate_split(&mesh, &options, split)
+            estimate_split(&mesh, &options, creases.barriers(&mesh).as_deref())
         })
         .map_err(to_py_err)?;
     let fields = PyDict::new(py);

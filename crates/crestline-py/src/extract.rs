@@ -33,8 +33,8 @@ use crate::mesh::mesh_from_arrays;
 ///   (Yoshizawa-Belyaev-Seidel 2005) or "saliency" (Mao-Wang-Zhou).
 /// - `threshold`: a number, or "auto" for the knee of the sorted strengths. HPW: the strength
 ///   T, default 1. YBS: default "auto" (above T = 1). Saliency: the saliency, default "auto".
-/// - `min_length`: lines shorter than this fraction of the bounding-box diagonal are dropped
-///   (default 0.01).
+/// - `min_length`: lines shorter than this fraction of the bounding-box diagonal (of the
+///   largest part when the mesh has several) are dropped (default 0.01).
 /// - `smooth_steps`, `smooth_time`: extremality smoothing steps (default 2 for HPW and YBS,
 ///   run when the curvature estimate finds the surface noisy; giving a number always runs
 ///   them) and step size relative to the squared mean edge length (default 1).

@@ -228,7 +228,8 @@ impl Lines {
     /// and `crease_valleys` (convex and concave creases), as the JSON lines file counts them,
     /// their total length, the sharp creases (`creases`, `crease_length`,
     /// `crease_threshold_degrees`: `None` when none were looked for or found), the
-    /// bounding-box `diagonal`, threshold, seconds per stage; `jet_fit`: the sample spacing, the radius in spacings, the noise level and
+    /// bounding-box `diagonal`, the model `scale` that relative lengths are fractions of (the
+    /// diagonal of the largest connected component), threshold, seconds per stage; `jet_fit`: the sample spacing, the radius in spacings, the noise level and
     /// its standard deviation in spacings and the quartic weight the fit chose, `None` for
     /// the other estimators); `None` for lines read from a file or sliced out of others. A
     /// copy each time.
@@ -285,6 +286,7 @@ fn stats_dict<'py>(
     d.set_item("crease_length", s.crease_length)?;
     d.set_item("crease_threshold_degrees", s.crease_threshold)?;
     d.set_item("diagonal", diagonal)?;
+    d.set_item("scale", s.scale)?;
     d.set_item("threshold", s.threshold)?;
     d.set_item("threshold_auto", s.threshold_is_auto)?;
     d.set_item("gaps_jumped", s.gaps_jumped)?;

@@ -219,7 +219,8 @@ pub fn run(args: Args) -> Result<()> {
             creases.curves.len()
         );
     }
-    let split = (!creases.is_empty()).then_some(&creases.edges[..]);
+    let barriers = creases.barriers(mesh);
+    let split = barriers.as_deref();
     let spinner = progress::spinner(format!("curvature of {} vertices", mesh.num_vertices()));
     let curvature = estimate_split(mesh, &options, split)?;
     let mut cols = columns(&curvature);

@@ -127,7 +127,8 @@ pub struct Args {
     /// strengths above T = 1; 1 when there is none). Saliency: the saliency, default auto.
     #[arg(long, allow_negative_numbers = true)]
     pub threshold: Option<String>,
-    /// Minimum line length as a fraction of the bounding-box diagonal, >= 0 (default 0.01).
+    /// Minimum line length as a fraction of the bounding-box diagonal (of the largest part when
+    /// the mesh has several), >= 0 (default 0.01).
     #[arg(long, value_parser = non_negative, allow_negative_numbers = true)]
     pub min_length: Option<f64>,
     /// Spatial fairing: largest displacement as a fraction of the bounding-box diagonal,
@@ -266,7 +267,7 @@ pub fn run(args: Args) -> Result<()> {
         print_summary(&name, &output, &extraction.stats, &options);
     }
     match args.stats {
-        Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, mesh, &io)),
+        Some(StatsFormat::Text) => eprint!("{}", stats_text(&extraction, &io)),
         Some(StatsFormat::Json) => println!(
             "{}",
             serde_json::to_string_pretty(&stats_json(&extraction, mesh, &io))?
@@ -773,7 +774,7 @@ pub struct IoTimes {
     pub write: Duration,
 }
 
-fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
+fn stats_text(x: &Extraction, io: &IoTimes) -> String {
     let s = &x.stats;
     let pct = |n: usize| 100.0 * n as f64 / s.triangles.max(1) as f64;
     let mut out = String::new();
@@ -794,7 +795,7 @@ fn stats_text(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> String {
     out += &format!(
         "total length           {} ({:.2} diagonals)\n",
         significant(s.total_length),
-        s.total_length / mesh.bounding_box().diagonal().max(f64::MIN_POSITIVE)
+        s.total_length / s.scale.max(f64::MIN_POSITIVE)
     );
     out += &format!(
         "threshold              {:.6}{}\n",
@@ -864,6 +865,7 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
         "crease_length": s.crease_length,
         "crease_threshold_degrees": s.crease_threshold,
         "diagonal": mesh.bounding_box().diagonal(),
+        "scale": s.scale,
         "threshold": s.threshold,
         "threshold_auto": s.threshold_is_auto,
         "gaps_jumped": s.gaps_jumped,

@@ -132,7 +132,8 @@ def extract(
 
     - method: "hpw" (default), "ybs" or "saliency".
     - threshold: a number or "auto". HPW: strength T, default 1; YBS and saliency: "auto".
-    - min_length: fraction of the bounding-box diagonal (default 0.01).
+    - min_length: fraction of the bounding-box diagonal, of the largest part when the mesh
+      has several (default 0.01).
     - smooth_steps (default 2, run on noisy surfaces; a number always runs them), smooth_time
       (default 1, relative to the squared mean edge length).
     - crease_angle: degrees (default 0.3 rad, about 17.2; 0 with no_twicing is HPW's plain smoothing).

@@ -14,7 +14,8 @@
 //! **Creases** (every method, [`ExtractOptions::creases`]): before step 1 the sharp creases of
 //! the mesh are found ([`crate::lines::crease`]; none on meshes whose dihedral angles have no
 //! gap, such as scans and smooth meshes). The curvature fits (jet fit) and the extremality
-//! smoothing do not reach across them, and at the end they are merged with the crest lines
+//! smoothing do not reach across them (nor across non-manifold edges: each sheet that meets
+//! there is fitted on its own), and at the end they are merged with the crest lines
 //! ([`crate::lines::merge`]): crest lines along a crease give way to it, crest lines ending
 //! near one are joined to it.
 //!
@@ -73,8 +74,10 @@
 //! **Options** ([`ExtractOptions`], in `options.rs`): the method and its own steps' options
 //! are one [`Pipeline`] ([`HpwOptions`], [`YbsOptions`], [`MwzOptions`]); the steps every
 //! method runs (orientation, creases, pre-smoothing, curvature, extremality smoothing,
-//! minimum length, fairing, merge) are shared. Every length is a fraction of the bounding-box
-//! diagonal (see [`ExtractOptions`] for the units of the filter widths).
+//! minimum length, fairing, merge) are shared. Every length is a fraction of the model size,
+//! the bounding-box diagonal of the largest connected component ([`TriMesh::model_size`]: a
+//! speck far away or a second part beside the first does not change the lines; see
+//! [`ExtractOptions`] for the units of the filter widths).
 //!
 //! **Thresholds** ([`crate::threshold::Threshold`]): fixed, or the knee search of
 //! [`crate::threshold`], a public step of its own ([`crate::threshold::choose_threshold`];
@@ -108,7 +111,7 @@ use crate::lines::merge::merge_creases;
 use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
 };
-use crate::mesh::{Orientation, TriMesh, orient_outward, orientation};
+use crate::mesh::{Orientation, TriMesh, orientation, reverse_faces};
 use crate::saliency::mesh_saliency;
 use crate::smoothing::extremality::{smooth_extremalities, smooth_extremalities_split};
 use crate::smoothing::surface::smooth_surface;
@@ -182,6 +185,9 @@ pub struct ExtractStats {
     pub crease_valleys: usize,
     /// Total length of the lines kept.
     pub total_length: f64,
+    /// The model size the relative lengths and strengths were measured against: the
+    /// bounding-box diagonal of the largest connected component ([`TriMesh::model_size`]).
+    pub scale: f64,
     /// Crease curves among the lines kept: `crease_ridges + crease_valleys`.
     pub creases: usize,
     /// Total length of the crease curves.
@@ -270,7 +276,8 @@ pub fn extract_with_progress(
     let creases = find_creases(mesh, &options.creases)?;
     stats.crease_threshold = creases.threshold;
     clock.end(Stage::Creases, t);
-    let split = (!creases.is_empty()).then_some(&creases.edges[..]);
+    let barriers = creases.barriers(mesh);
+    let split = barriers.as_deref();
 
     let smoothed;
     let surface = if options.pre_smoothing.steps > 0 {
@@ -302,7 +309,8 @@ pub fn extract_with_progress(
     }
 
     let t = clock.begin(Stage::Tracing);
-    let diagonal = mesh.bounding_box().diagonal();
+    let diagonal = mesh.model_size();
+    stats.scale = diagonal;
     let mut traced = trace_by_method(surface, &curvature, &options.pipeline, &mut stats)?;
     clock.end(Stage::Tracing, t);
     if let Pipeline::Ybs(YbsOptions {
@@ -359,12 +367,13 @@ fn orient_if_inward(
     if !options.orient_outward {
         return Ok(None);
     }
-    let (report, _) = orientation(mesh);
+    // Classified once: the flags say what `orient_outward` would reverse.
+    let (report, reverse) = orientation(mesh);
     stats.orientation = report;
     if report.inward == 0 && report.rewound_faces == 0 {
         return Ok(None);
     }
-    Ok(Some(orient_outward(mesh.clone())?.0))
+    Ok(Some(reverse_faces(mesh.clone(), &reverse)))
 }
 
 /// Traces the candidate lines of the chosen method: HPW's regular and singular triangles,

@@ -30,7 +30,7 @@ pub enum Method {
 /// Default threshold of the YBS pipeline on T (dimensionless, as in the paper's figures):
 /// the floor of its automatic threshold, and the threshold when the strengths have no knee.
 pub const YBS_DEFAULT_THRESHOLD: f64 = 1.0;
-/// Default minimum line length, as a fraction of the bounding-box diagonal.
+/// Default minimum line length, as a fraction of the model size ([`crate::TriMesh::model_size`]).
 pub const DEFAULT_MIN_LENGTH: f64 = 0.01;
 /// Default number of sign-aware extremality smoothing steps of the YBS pipeline (the paper
 /// has none; see the module docs of [`crate::extract`] for why and what it costs).
@@ -220,7 +220,9 @@ impl Default for Pipeline {
 /// method runs. Every field has a documented default; [`ExtractOptions::for_method`] gives the
 /// defaults of each method.
 ///
-/// **Units.** Every length of these options is a fraction of the mesh's bounding-box diagonal
+/// **Units.** Every length of these options is a fraction of the model size: the
+/// bounding-box diagonal of the mesh, or of its largest connected component when it has
+/// several ([`crate::TriMesh::model_size`]; [`ExtractStats::scale`](super::ExtractStats::scale))
 /// ([`ExtractOptions::min_length`], [`Fairing::tolerance`], the crease and merge distances of
 /// [`CreaseOptions`] and [`MergeOptions`]), so that the same options mean the same on a model
 /// in millimetres and in metres. Three scales are not lengths of the result but widths of
@@ -262,10 +264,10 @@ pub struct ExtractOptions {
     /// at 5K faces, 0.99 → 0.90 at 20K); on noisy ones it removes what noise the fit leaves.
     /// Default: true.
     pub smooth_only_noisy: bool,
-    /// Lines shorter than this fraction of the bounding-box diagonal are dropped (HPW step 6,
+    /// Lines shorter than this fraction of the model size are dropped (HPW step 6,
     /// for every method). Default: [`DEFAULT_MIN_LENGTH`].
     pub min_length: f64,
-    /// Step 7: spatial fairing; its tolerance is a fraction of the bounding-box diagonal.
+    /// Step 7: spatial fairing; its tolerance is a fraction of the model size.
     /// Default: off.
     pub fairing: Fairing,
     /// How crease curves and crest lines are merged ([`crate::lines::merge`]). Default:

@@ -15,7 +15,8 @@ use super::assemble::integrate;
 /// Options of [`fair_lines`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fairing {
-    /// Largest distance a point may move, as a fraction of the mesh's bounding-box diagonal.
+    /// Largest distance a point may move, as a fraction of the model size
+    /// ([`crate::TriMesh::model_size`]).
     /// Default: 0 (fairing off).
     pub tolerance: f64,
     /// Number of bi-Laplacian iterations. Default: 30.

@@ -2,7 +2,8 @@
 //!
 //! Both strengths are scale independent: the integral of |k| along a line (Ohtake et al.
 //! 2004, as HPW use) is dimensionless, and so is YBS's `T = ∫ds · ∫C ds`. The minimum length
-//! is given relative to the bounding-box diagonal for the same reason.
+//! is given relative to the model size (the bounding-box diagonal, of the largest part when
+//! there are several: [`crate::TriMesh::model_size`]) for the same reason.
 
 use super::{FeatureLine, FeatureLines};
 use crate::threshold::{ChosenThreshold, Threshold, choose_threshold};
@@ -38,7 +39,7 @@ pub struct LineFilter {
     pub measure: StrengthMeasure,
     /// Lines with a smaller strength are dropped. Default: 0 (keep all).
     pub threshold: f64,
-    /// Lines shorter than this fraction of the bounding-box diagonal are dropped.
+    /// Lines shorter than this fraction of the model size are dropped.
     /// Default: 0.
     pub min_length: f64,
 }
@@ -53,7 +54,8 @@ impl Default for LineFilter {
     }
 }
 
-/// Keeps the lines that pass `filter`; `diagonal` is the mesh's bounding-box diagonal.
+/// Keeps the lines that pass `filter`; `diagonal` is the model size
+/// ([`crate::TriMesh::model_size`]).
 pub fn filter_lines(lines: FeatureLines, filter: &LineFilter, diagonal: f64) -> FeatureLines {
     let min_length = filter.min_length * diagonal;
     FeatureLines {

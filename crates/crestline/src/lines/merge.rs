@@ -37,7 +37,8 @@ use crate::mesh::widest_side;
 use crate::mesh::{TriMesh, Vec3};
 use crate::spatial::{PointGrid, segment_parameter};
 
-/// Options of [`merge_creases`]; distances are fractions of the bounding-box diagonal.
+/// Options of [`merge_creases`]; distances are fractions of the model size
+/// ([`TriMesh::model_size`]: the bounding-box diagonal of the largest part).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MergeOptions {
     /// Crest-line points closer than this to a crease curve are replaced by the crease.
@@ -253,7 +254,7 @@ pub fn merge_creases(
         cone_radii: &cone_radii,
         largest,
     };
-    let diagonal = mesh.bounding_box().diagonal();
+    let diagonal = mesh.model_size();
     let tolerance = options.tolerance * diagonal;
     // At most 5,000 samples per diagonal of crease, whatever the tolerance.
     let spacing = (tolerance / 2.0)

@@ -60,6 +60,47 @@ pub(super) fn bounding_box(mesh: &TriMesh) -> BoundingBox {
     BoundingBox { min, max }
 }
 
+/// [`TriMesh::model_size`]: per connected component its area and bounding box, in one pass
+/// over the faces.
+pub(super) fn model_size(mesh: &TriMesh) -> f64 {
+    let faces = mesh.faces();
+    let (component, count) = mesh.topology().vertex_components(faces);
+    if count <= 1 {
+        return bounding_box(mesh).diagonal();
+    }
+    let mut area = vec![0.0f64; count];
+    let mut min = vec![[f64::INFINITY; 3]; count];
+    let mut max = vec![[f64::NEG_INFINITY; 3]; count];
+    for (f, t) in faces.iter().enumerate() {
+        let c = component[t[0] as usize] as usize;
+        area[c] += face_normal_and_area(mesh, f).1;
+        for &v in t {
+            let p = mesh.position(v);
+            for k in 0..3 {
+                min[c][k] = min[c][k].min(p[k]);
+                max[c][k] = max[c][k].max(p[k]);
+            }
+        }
+    }
+    let diagonal = |c: usize| {
+        BoundingBox {
+            min: min[c],
+            max: max[c],
+        }
+        .diagonal()
+    };
+    // The largest area; among equal areas (none: no component has area) the largest box.
+    let largest = (0..count).max_by(|&a, &b| {
+        area[a]
+            .total_cmp(&area[b])
+            .then(diagonal(a).total_cmp(&diagonal(b)))
+    });
+    match largest {
+        Some(c) if area[c] > 0.0 => diagonal(c),
+        _ => bounding_box(mesh).diagonal(),
+    }
+}
+
 /// Unit face normals (right-hand rule on the winding).
 pub fn face_normals(mesh: &TriMesh) -> Vec<Vec3> {
     (0..mesh.num_faces())

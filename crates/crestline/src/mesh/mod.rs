@@ -24,7 +24,7 @@ pub use geometry::{
     vertex_normals_area, vertex_normals_max,
 };
 pub use info::MeshInfo;
-pub use orient::{Orientation, orient_outward, orientation, signed_volume};
+pub use orient::{Orientation, orient_outward, orientation, reverse_faces, signed_volume};
 pub(crate) use sides::corner_angle;
 pub use sides::{SIDE_TIE, widest_side};
 pub use subdivide::{SubdivideOptions, loop_subdivide};
@@ -252,6 +252,43 @@ impl TriMesh {
     /// Axis-aligned bounding box of the referenced vertices (all vertices if none is referenced).
     pub fn bounding_box(&self) -> BoundingBox {
         geometry::bounding_box(self)
+    }
+
+    /// The size the feature-line pipeline measures relative lengths and strengths against:
+    /// the bounding-box diagonal of the connected component (over shared vertices) with the
+    /// largest area, or of the whole mesh when no component has area.
+    ///
+    /// The diagonal of the whole file would make the lines depend on what else the file holds:
+    /// a stray triangle far from a scan, or a second part beside the first, stretches the box,
+    /// and every minimum length, strength and tolerance with it (two copies of fandisk 200
+    /// units apart lost every crest line). The largest part is what a user sees as the
+    /// model; on a mesh of one component this is its bounding-box diagonal.
+    ///
+    /// ```
+    /// use crestline::{TriMesh, Vec3};
+    ///
+    /// # fn main() -> crestline::Result<()> {
+    /// let sphere = crestline::shapes::icosphere(1.0, 3);
+    /// let size = sphere.model_size();
+    /// assert!((size - sphere.bounding_box().diagonal()).abs() < 1e-12);
+    /// // A speck 100 units away stretches the box, not the model size.
+    /// let mut positions = sphere.positions().to_vec();
+    /// let n = positions.len() as u32;
+    /// positions.extend([
+    ///     Vec3::new(100.0, 100.0, 100.0),
+    ///     Vec3::new(100.01, 100.0, 100.0),
+    ///     Vec3::new(100.0, 100.01, 100.0),
+    /// ]);
+    /// let mut faces = sphere.faces().to_vec();
+    /// faces.push([n, n + 1, n + 2]);
+    /// let with_speck = TriMesh::new(positions, faces)?;
+    /// assert!(with_speck.bounding_box().diagonal() > 100.0);
+    /// assert_eq!(with_speck.model_size(), size);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn model_size(&self) -> f64 {
+        geometry::model_size(self)
     }
 
     /// Counts and health figures for reports (`crestline info`).

@@ -35,7 +35,9 @@
 //!    radius r encloses 2.1 r³ with its flat cap, against 3.6 r³ that a cone could change),
 //!    and keeps the winding of step 1: which side is out is then the file's to say.
 //!
-//! [`orientation`] reports what [`orient_outward`] would do without doing it.
+//! [`orientation`] reports what [`orient_outward`] would do without doing it; [`reverse_faces`]
+//! then does it from that report's flags, without classifying the mesh again (for callers
+//! that need the flags too, or keep the mesh as given when nothing changes).
 
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
@@ -492,6 +494,32 @@ pub fn orient_outward(mesh: TriMesh) -> Result<(TriMesh, Orientation)> {
         mesh.with_components_flipped_where(|f, t| reversal.is_inward(f, t)),
         report,
     ))
+}
+
+/// The same mesh with the faces `f` where `reverse[f]` wound the other way: applies the flags
+/// of [`orientation`], so that `reverse_faces(mesh, &orientation(&mesh).1)` is
+/// [`orient_outward`]`(mesh)`'s mesh. Faces past the end of `reverse` stay as they are. The
+/// connectivity does not depend on the winding: it is kept, not rebuilt.
+///
+/// ```
+/// use crestline::mesh::{orientation, reverse_faces, signed_volume};
+///
+/// # fn main() -> crestline::Result<()> {
+/// let sphere = crestline::shapes::icosphere(1.0, 2);
+/// let faces = sphere.faces().iter().map(|t| [t[0], t[2], t[1]]).collect();
+/// let inward = crestline::TriMesh::new(sphere.positions().to_vec(), faces)?;
+/// let (report, reverse) = orientation(&inward);
+/// assert_eq!(report.inward, 1);
+/// assert!(signed_volume(&reverse_faces(inward, &reverse)) > 0.0);
+/// # Ok(())
+/// # }
+/// ```
+pub fn reverse_faces(mesh: TriMesh, reverse: &[bool]) -> TriMesh {
+    if reverse.iter().any(|&r| r) {
+        mesh.with_flipped_faces(reverse)
+    } else {
+        mesh
+    }
 }
 
 /// Signed volume enclosed by `mesh` (positive when a closed mesh faces outward). Meaningful

@@ -341,3 +341,94 @@ fn scan_lines_are_invariant_under_reordering() {
         );
     }
 }
+
+/// `mesh` with copies of itself shifted by each of `shifts` in one mesh.
+fn with_copies(mesh: &TriMesh, shifts: &[Vec3]) -> TriMesh {
+    let n = mesh.num_vertices() as u32;
+    let mut positions = mesh.positions().to_vec();
+    let mut faces = mesh.faces().to_vec();
+    for (k, shift) in shifts.iter().enumerate() {
+        let offset = n * (k as u32 + 1);
+        positions.extend(mesh.positions().iter().map(|p| p + shift));
+        faces.extend(mesh.faces().iter().map(|t| t.map(|v| v + offset)));
+    }
+    TriMesh::new(positions, faces).unwrap()
+}
+
+#[test]
+fn fandisk_lines_do_not_depend_on_what_else_the_file_holds() {
+    // Relative lengths and strengths are fractions of the model size, the diagonal of the
+    // largest part: a speck far away, or a second part beside the first, must not change
+    // the lines (with the diagonal of the whole file, two copies 20 diagonals apart lost
+    // every crest line).
+    let mesh = load_shared("fandisk.obj");
+    let d = diagonal(&mesh);
+    let reference = extract(&mesh, &ExtractOptions::default()).unwrap().lines;
+    let far = Vec3::new(20.0 * d, 0.0, 0.0);
+    let mut failures = Vec::new();
+
+    // A speck: one triangle 1e-3 of the diagonal wide, 20 diagonals away.
+    let mut positions = mesh.positions().to_vec();
+    let n = positions.len() as u32;
+    let corner = Vec3::from(mesh.bounding_box().max) + far;
+    positions.extend([
+        corner,
+        corner + Vec3::new(1e-3 * d, 0.0, 0.0),
+        corner + Vec3::new(0.0, 1e-3 * d, 0.0),
+    ]);
+    let mut faces = mesh.faces().to_vec();
+    faces.push([n, n + 1, n + 2]);
+    let speck = TriMesh::new(positions, faces).unwrap();
+    assert!(diagonal(&speck) > 20.0 * d);
+    // The speck's three vertices are samples too: the jet fit's sample spacing (√(area per
+    // vertex)) shrinks by 2e-4 of itself and the lines move by a little (measured: length
+    // 3.9e-4 of the diagonal), so here the same lines are asked for within 1e-3 of the
+    // diagonal, not at the level of rounding.
+    let lines = extract(&speck, &ExtractOptions::default()).unwrap().lines;
+    let length_error = (lines.total_length() - reference.total_length()).abs() / d;
+    let points =
+        |l: &FeatureLines| -> Vec<Vec3> { l.lines.iter().flat_map(|l| l.points.clone()).collect() };
+    let (ours, theirs) = (points(&lines), points(&reference));
+    let cell = 1e-3 * d;
+    let summary = format!(
+        "fandisk with a speck: {} vs {} lines, length error {length_error:.2e} of the \
+         diagonal, farthest point {:?} / {:?} (tolerance {cell:.2e})",
+        lines.lines.len(),
+        reference.lines.len(),
+        farthest_unmatched(&ours, &theirs, cell),
+        farthest_unmatched(&theirs, &ours, cell),
+    );
+    eprintln!("{summary}");
+    if lines.lines.len() != reference.lines.len()
+        || length_error > 1e-3
+        || farthest_unmatched(&ours, &theirs, cell).is_none()
+        || farthest_unmatched(&theirs, &ours, cell).is_none()
+    {
+        failures.push(summary);
+    }
+
+    // Two copies: each gets the lines of one.
+    let pair = with_copies(&mesh, &[far]);
+    let lines = extract(&pair, &ExtractOptions::default()).unwrap().lines;
+    let centre_x = mesh.bounding_box().center().x + 10.0 * d;
+    let (second, first): (Vec<_>, Vec<_>) = lines
+        .lines
+        .into_iter()
+        .partition(|l| l.points[0].x > centre_x);
+    for (what, part, shift) in [
+        ("first of two copies", first, Vec3::zeros()),
+        ("second of two copies", second, far),
+    ] {
+        let t = Similarity {
+            shift,
+            ..Similarity::identity()
+        };
+        let part = FeatureLines { lines: part };
+        let (same, summary) = check_same_lines("fandisk", what, &reference, d, &part, &t);
+        eprintln!("{summary}");
+        if !same {
+            failures.push(summary);
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

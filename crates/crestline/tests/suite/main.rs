@@ -21,6 +21,7 @@ mod html_viewer;
 mod invariance;
 mod io_robustness;
 mod io_round_trip;
+mod non_manifold;
 mod quality_cases;
 mod real_meshes;
 #[cfg(feature = "render")]

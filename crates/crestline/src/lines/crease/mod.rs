@@ -33,7 +33,8 @@
 //!    at corners (a vertex with one or three or more crease edges, a turn sharper than
 //!    [`CreaseOptions::corner_angle`], a change from convex to concave) or close into loops.
 //! 5. *Stray edges* ([`drop_stray_curves`]): connected sets of crease curves shorter than
-//!    [`CreaseOptions::min_length`] times the bounding-box diagonal are dropped; the rule is
+//!    [`CreaseOptions::min_length`] times the model size ([`TriMesh::model_size`]: the
+//!    bounding-box diagonal of the largest part) are dropped; the rule is
 //!    in model units, so it does not depend on the triangulation.
 //!
 //! Each curve is convex (the ridge family) or concave (the valley family) by the sign of its
@@ -83,7 +84,7 @@ pub struct CreaseOptions {
     /// Default: [`CreaseAngle::Auto`].
     pub angle: CreaseAngle,
     /// Connected sets of crease curves shorter than this fraction of the bounding-box
-    /// diagonal are dropped (stray edges of a tessellation).
+    /// diagonal ([`TriMesh::model_size`]) are dropped (stray edges of a tessellation).
     ///
     /// Default: 0.01 (as the minimum length of crest lines).
     pub min_length: f64,
@@ -201,6 +202,31 @@ impl Creases {
         self.curves.is_empty()
     }
 
+    /// The edges the curvature fits and the extremality smoothing do not reach across (per
+    /// edge of [`crate::mesh::Topology::edges`]), or `None` when there are none: the kept
+    /// crease edges, and the non-manifold edges of `mesh` (three or more faces: a wall
+    /// meeting a face, two parts glued along an edge), crease or not. Across a non-manifold
+    /// edge the surface goes on in several sheets; a disc that read them all would fit one
+    /// surface through a T (on a cube with an inner wall, the faces beside the wall came out
+    /// with 11 ridges and 4 valleys). Each sheet is then fitted on its own, as each side of a
+    /// crease is ([`crate::curvature::estimate_split`]).
+    pub fn barriers(&self, mesh: &TriMesh) -> Option<Vec<bool>> {
+        let topo = mesh.topology();
+        let mut barriers = if self.is_empty() {
+            vec![false; topo.num_edges()]
+        } else {
+            self.edges.clone()
+        };
+        let mut any = !self.is_empty();
+        for (e, barrier) in barriers.iter_mut().enumerate() {
+            if topo.edge_faces(e as u32).len() > 2 {
+                *barrier = true;
+                any = true;
+            }
+        }
+        any.then_some(barriers)
+    }
+
     /// Per vertex: true for a vertex on a kept crease edge or a cone point.
     pub fn vertices(&self, mesh: &TriMesh) -> Vec<bool> {
         let mut on = vec![false; mesh.num_vertices()];
@@ -219,7 +245,7 @@ impl Creases {
 
     /// The curves as feature lines (`crease` set, points at the mesh vertices).
     pub fn lines(&self, mesh: &TriMesh) -> FeatureLines {
-        let diagonal = mesh.bounding_box().diagonal();
+        let diagonal = mesh.model_size();
         let lines = self
             .curves
             .iter()
@@ -264,16 +290,23 @@ pub fn find_creases(mesh: &TriMesh, options: &CreaseOptions) -> Result<Creases> 
         CreaseAngle::Auto => {
             let angles = dihedral_angles(mesh);
             let lengths = edge_lengths(mesh);
-            let t =
-                crease_gap(mesh, &angles, &lengths).map(|t| polyhedral_threshold(mesh, &angles, t));
-            return Ok(creases_above(mesh, &angles, t, options));
+            let size = mesh.model_size();
+            let t = crease_gap(mesh, &angles, &lengths, size)
+                .map(|t| polyhedral_threshold(mesh, &angles, t, size));
+            return Ok(creases_above(mesh, &angles, t, options, size));
         }
     };
     if threshold.is_none() {
         return Ok(Creases::none(topo.num_edges()));
     }
     let angles = dihedral_angles(mesh);
-    Ok(creases_above(mesh, &angles, threshold, options))
+    Ok(creases_above(
+        mesh,
+        &angles,
+        threshold,
+        options,
+        mesh.model_size(),
+    ))
 }
 
 /// The automatic threshold (radians): that of the lowest of the [`gap_thresholds`] above which
@@ -281,10 +314,9 @@ pub fn find_creases(mesh: &TriMesh, options: &CreaseOptions) -> Result<Creases> 
 /// a gap inside the spread of a tessellation's angles is not the one below the creases (the
 /// facets of a chamfer's cone and a hole's fillet, 1° to 15°, left a thin stretch about 2°
 /// on a bracket, above which every facet of the cone was taken for a crease). `None` when
-/// there is no gap or only tessellation edges above every gap.
-fn crease_gap(mesh: &TriMesh, angles: &[f64], lengths: &[f64]) -> Option<f64> {
+/// there is no gap or only tessellation edges above every gap. `diagonal`: the model size.
+fn crease_gap(mesh: &TriMesh, angles: &[f64], lengths: &[f64], diagonal: f64) -> Option<f64> {
     let gaps = gap_thresholds(angles, lengths);
-    let diagonal = mesh.bounding_box().diagonal();
     (0..gaps.len())
         .find(|&k| {
             let (low, high) = (gaps[k].to, gaps.get(k + 1).map(|g| g.from));
@@ -306,10 +338,9 @@ fn crease_gap(mesh: &TriMesh, angles: &[f64], lengths: &[f64]) -> Option<f64> {
 /// The automatic threshold `t` (radians), or [`FLAT_ANGLE`] when none of the edges between
 /// the two (the low side of the gap) is a tessellation edge ([`is_facet_edge`]): the mesh
 /// has no curved face then, only planes, and every edge that turns is a crease of the
-/// design (module docs, step 2).
-fn polyhedral_threshold(mesh: &TriMesh, angles: &[f64], t: f64) -> f64 {
+/// design (module docs, step 2). `diagonal`: the model size.
+fn polyhedral_threshold(mesh: &TriMesh, angles: &[f64], t: f64, diagonal: f64) -> f64 {
     let flat = FLAT_ANGLE.to_radians();
-    let diagonal = mesh.bounding_box().diagonal();
     let mut below = (0..angles.len() as u32).filter(|&e| {
         let a = angles[e as usize].abs();
         a > flat && a <= t
@@ -332,17 +363,17 @@ fn edge_lengths(mesh: &TriMesh) -> Vec<f64> {
         .collect()
 }
 
-/// Steps 3 to 5 for a threshold in radians.
+/// Steps 3 to 5 for a threshold in radians; `diagonal`: the model size.
 fn creases_above(
     mesh: &TriMesh,
     angles: &[f64],
     threshold: Option<f64>,
     options: &CreaseOptions,
+    diagonal: f64,
 ) -> Creases {
     let Some(t) = threshold else {
         return Creases::none(mesh.topology().num_edges());
     };
-    let diagonal = mesh.bounding_box().diagonal();
     let is_crease: Vec<bool> = (0..angles.len() as u32)
         .into_par_iter()
         .map(|e| {
