@@ -100,6 +100,15 @@ impl Format {
         }
         Format::from_path(path).ok_or_else(|| {
             let extension = match path.extension() {
+                Some(e)
+                    if COMPRESSED_EXTENSIONS
+                        .contains(&e.to_string_lossy().to_lowercase().as_str()) =>
+                {
+                    format!(
+                        "a compressed file ('.{}'): decompress it first",
+                        e.to_string_lossy()
+                    )
+                }
                 Some(e) => format!("unknown extension '.{}'", e.to_string_lossy()),
                 None => "no file extension".to_string(),
             };
@@ -277,9 +286,47 @@ pub fn parse_mesh_bytes(bytes: &[u8], format: Format, name: &Path) -> Result<Mes
     data.map_err(|e| with_format_hint(e, bytes, format))
 }
 
+/// Extensions of compressed files, which are not read: [`Format::resolve`] says to decompress
+/// them first.
+const COMPRESSED_EXTENSIONS: [&str; 7] = ["gz", "zip", "zst", "xz", "bz2", "7z", "z"];
+
+/// The compression a file's first bytes announce (gzip, zip, zstd, xz, bzip2, 7z), if any.
+pub fn sniff_compression(bytes: &[u8]) -> Option<&'static str> {
+    const MAGIC: [(&[u8], &str); 6] = [
+        (&[0x1f, 0x8b], "gzip"),
+        (b"PK\x03\x04", "zip"),
+        (&[0x28, 0xb5, 0x2f, 0xfd], "zstd"),
+        (&[0xfd, b'7', b'z', b'X', b'Z', 0x00], "xz"),
+        (b"BZh", "bzip2"),
+        (&[b'7', b'z', 0xbc, 0xaf, 0x27, 0x1c], "7z"),
+    ];
+    MAGIC
+        .iter()
+        .find(|(magic, _)| bytes.starts_with(magic))
+        .map(|&(_, name)| name)
+}
+
 /// A parse error of a file whose contents look like another format than the one it was read
-/// as (a PLY file named `.obj`, the wrong `--input-format` on standard input) says so.
+/// as (a PLY file named `.obj`, the wrong `--input-format` on standard input), or like a
+/// compressed file (a `.obj` that is gzipped), says so.
 fn with_format_hint(error: Error, bytes: &[u8], format: Format) -> Error {
+    if let (
+        Error::Parse {
+            path,
+            location,
+            message,
+        },
+        Some(compression),
+    ) = (&error, sniff_compression(bytes))
+    {
+        return Error::Parse {
+            path: path.clone(),
+            location: *location,
+            message: format!(
+                "{message} (the file is {compression}-compressed: decompress it first)"
+            ),
+        };
+    }
     match (error, sniff_format(bytes)) {
         (
             Error::Parse {
@@ -677,6 +724,30 @@ mod tests {
         // A parse error of a file that looks like what it was read as has no hint.
         let e = parse_mesh_bytes(b"v 0 0 x\n", Format::Obj, name).unwrap_err();
         assert!(!e.to_string().contains("look like"), "{e}");
+    }
+
+    #[test]
+    fn a_compressed_file_is_named_as_such() {
+        // The start of `gzip < fandisk.obj`, of a zip archive and of a zstd frame.
+        let gzip = b"\x1f\x8b\x08\x08\xa1\x4f\x27\x69\x00\x03fd.obj\x00\xad\x5b";
+        let zip = b"PK\x03\x04\x14\x00\x00\x00\x08\x00fd.obj";
+        let zstd = b"\x28\xb5\x2f\xfd\x24\x3c\x41\x01\x00";
+        let name = Path::new("m.obj");
+        for (bytes, kind) in [(&gzip[..], "gzip"), (&zip[..], "zip"), (&zstd[..], "zstd")] {
+            assert_eq!(sniff_compression(bytes), Some(kind));
+            for format in Format::ALL {
+                let e = parse_mesh_bytes(bytes, format, name).unwrap_err();
+                let hint = format!("(the file is {kind}-compressed: decompress it first)");
+                assert!(e.to_string().ends_with(&hint), "{format}: {e}");
+            }
+        }
+        assert_eq!(sniff_compression(b"v 0 0 0\n"), None);
+        let e = Format::resolve(Path::new("scan.obj.gz"), None).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("a compressed file ('.gz'): decompress it first"),
+            "{e}"
+        );
     }
 
     #[test]
