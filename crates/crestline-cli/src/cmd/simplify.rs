@@ -106,7 +106,9 @@ pub fn run(args: Args) -> Result<()> {
                 "flip": r.flip,
                 "degenerate": r.degenerate,
                 "fixed": r.fixed,
+                "valence": r.valence,
             },
+            "candidates": result.candidates,
             "creases": lines.lines.iter().filter(|l| l.crease).count(),
         });
         println!("{}", serde_json::to_string_pretty(&report)?);
@@ -127,8 +129,15 @@ pub fn run(args: Args) -> Result<()> {
         );
         eprintln!(
             "refused candidates: {} link condition, {} flip, {} degenerate, {} boundary, \
-             {} non-manifold, {} on creases (kept as they are)",
-            r.link, r.flip, r.degenerate, r.boundary, r.non_manifold, r.fixed
+             {} non-manifold, {} on creases (kept as they are), {} above {} neighbours",
+            r.link,
+            r.flip,
+            r.degenerate,
+            r.boundary,
+            r.non_manifold,
+            r.fixed,
+            r.valence,
+            crestline::simplify::MAX_VALENCE
         );
         note!("written to {}", display(&args.out.output));
     }

@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use super::quadric::{Quadric, add_boundary_quadrics, face_quadrics};
 use super::queue::{CandidateQueue, Entry};
-use super::{Rejections, SimplifyOptions};
+use super::{MAX_VALENCE, Rejections, SimplifyOptions};
 use crate::error::Result;
 use crate::mesh::{TriMesh, Vec3, VertexKind};
 
@@ -18,6 +18,7 @@ enum Refusal {
     Flip,
     Degenerate,
     Fixed,
+    Valence,
 }
 
 /// A planned collapse: `remove` merges into `keep`, which moves to `target`; `source` is the
@@ -63,6 +64,8 @@ pub(super) struct Decimator<'m> {
     min_cos: f64,
     pub(super) collapses: usize,
     pub(super) rejected: Rejections,
+    /// Candidate collapses planned for the queue (see [`super::Simplified::candidates`]).
+    pub(super) candidates: usize,
     ring_u: Vec<u32>,
     ring_v: Vec<u32>,
 }
@@ -143,6 +146,7 @@ impl<'m> Decimator<'m> {
             min_cos: options.max_normal_rotation.to_radians().cos(),
             collapses: 0,
             rejected: Rejections::default(),
+            candidates: 0,
             ring_u: Vec::new(),
             ring_v: Vec::new(),
         }
@@ -188,6 +192,7 @@ impl<'m> Decimator<'m> {
             let checked = self
                 .plan_collapse(u, v)
                 .and_then(|plan| self.check_link_condition(u, v).map(|()| plan))
+                .and_then(|plan| self.check_valence(u, v).map(|()| plan))
                 .and_then(|plan| self.check_moved_faces(&plan).map(|()| plan));
             match checked {
                 Ok(plan) => {
@@ -213,6 +218,7 @@ impl<'m> Decimator<'m> {
                 ring.into_iter().map(move |w| this.entry(u, w))
             })
             .collect();
+        self.candidates += planned.len();
         let mut entries = Vec::with_capacity(planned.len());
         for p in planned {
             match p {
@@ -246,6 +252,7 @@ impl<'m> Decimator<'m> {
     fn queue_edges_of(&mut self, v: u32, heap: &mut CandidateQueue) {
         let mut ring = std::mem::take(&mut self.ring_u);
         self.collect_ring(v, &mut ring);
+        self.candidates += ring.len();
         for &w in &ring {
             match self.entry(v, w) {
                 Ok(e) => heap.push(e),
@@ -264,6 +271,7 @@ impl<'m> Decimator<'m> {
             Refusal::Flip => r.flip += 1,
             Refusal::Degenerate => r.degenerate += 1,
             Refusal::Fixed => r.fixed += 1,
+            Refusal::Valence => r.valence += 1,
         }
     }
 
@@ -284,10 +292,16 @@ impl<'m> Decimator<'m> {
         ring.dedup();
     }
 
-    /// Number of live triangles on edge `u v`.
+    /// Number of live triangles on edge `u v`, found among the triangles of the end point
+    /// with fewer (a vertex at the tip of a fan may have many).
     fn edge_face_count(&self, u: u32, v: u32) -> usize {
-        self.live_faces_of(u)
-            .filter(|&f| self.faces[f as usize].contains(&v))
+        let (a, b) = if self.vertex_faces[u as usize].len() <= self.vertex_faces[v as usize].len() {
+            (u, v)
+        } else {
+            (v, u)
+        };
+        self.live_faces_of(a)
+            .filter(|&f| self.faces[f as usize].contains(&b))
             .count()
     }
 
@@ -406,6 +420,20 @@ impl<'m> Decimator<'m> {
                     return Err(Refusal::Link);
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// Refuses a collapse that would give the merged vertex more than [`MAX_VALENCE`]
+    /// neighbours and more than either end point has now. Run after the link condition, which
+    /// leaves the two rings in `ring_u` and `ring_v`.
+    fn check_valence(&self, u: u32, v: u32) -> Result<(), Refusal> {
+        let (ring_u, ring_v) = (&self.ring_u, &self.ring_v);
+        debug_assert!(ring_u.binary_search(&v).is_ok() && ring_v.binary_search(&u).is_ok());
+        // The union of the two rings, without u and v themselves.
+        let merged = ring_u.len() + ring_v.len() - count_common(ring_u, ring_v) - 2;
+        if merged > MAX_VALENCE && merged > ring_u.len().max(ring_v.len()) {
+            return Err(Refusal::Valence);
         }
         Ok(())
     }

@@ -58,12 +58,22 @@
 //!   when a moved triangle's normal would turn by more than `max_normal_rotation` (flips) or
 //!   its area would vanish; and when either end point is a non-manifold vertex of the input
 //!   (those, and so the non-manifold edges between them, are left alone).
+//! - **Valence.** A collapse is refused when the vertex it keeps would get more than
+//!   [`MAX_VALENCE`] (128) neighbours and more than either end point has now. Where costs
+//!   tie (flat or straight stretches, where collapses cost nothing), the vertex just kept
+//!   can win again and again: on a long straight strip one vertex swallowed its whole row,
+//!   a fan of all the triangles left, and since each collapse into it plans all its edges
+//!   anew the time grew with the square of the strip (a flat strip of 4,000 triangles took
+//!   3 s, one of 64,000 did not finish in 9 minutes). The bound changes no result on the
+//!   meshes of `shared/data/meshes` (to 10 %, 3 % and 2 %); the fans of an input (CAD caps)
+//!   may still shrink.
 //! - **Connectivity.** The [`TriMesh`] is immutable, so the collapses run on a light mutable
 //!   copy (triangle list with alive flags, per-vertex triangle lists); the survivors are then
 //!   compacted into a new [`TriMesh`].
 //!
-//! Cost: O(E log E) for the queue, with constant work per collapse on meshes of bounded
-//! degree. About 1 s for 270K triangles to 10 % on one core (`BENCHMARKS.md`).
+//! Cost: O(E log E) for the queue, with constant work per collapse, since the collapses keep
+//! the degrees bounded (beyond those of the input). About 1 s for 270K triangles to 10 % on
+//! one core (`BENCHMARKS.md`).
 //!
 //! ## Known limits
 //! - The requested face count is met to within one face: interior collapses remove two
@@ -90,6 +100,10 @@ use crate::lines::{FeatureLines, SurfacePoint};
 use crate::mesh::{TriMesh, mean_edge_length};
 
 use decimator::Decimator;
+
+/// Most neighbours a collapse may give the vertex it keeps, unless one of the two end points
+/// has more already (see the module docs, "Valence").
+pub const MAX_VALENCE: usize = 128;
 
 /// How many triangles the simplified mesh should have.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -237,12 +251,21 @@ pub struct Rejections {
     /// The collapse would move or remove a crease vertex the constraints keep (see the module
     /// docs on creases).
     pub fixed: usize,
+    /// The kept vertex would get more neighbours than the decimation allows (see the module
+    /// docs, "Valence").
+    pub valence: usize,
 }
 
 impl Rejections {
     /// The sum over all reasons.
     pub fn total(&self) -> usize {
-        self.non_manifold + self.boundary + self.link + self.flip + self.degenerate + self.fixed
+        self.non_manifold
+            + self.boundary
+            + self.link
+            + self.flip
+            + self.degenerate
+            + self.fixed
+            + self.valence
     }
 }
 
@@ -266,6 +289,10 @@ pub struct Simplified {
     pub rejected: Rejections,
     /// Passes over the candidate heap (more than one when the first ran dry).
     pub passes: usize,
+    /// Candidate collapses planned: every edge once per pass, and the edges of the kept vertex
+    /// after each collapse. The work of the decimation; a few per input triangle when the
+    /// degrees stay bounded (see the module docs, "Valence").
+    pub candidates: usize,
 }
 
 /// Crest-line-guided simplification (YBS 2005 eq. 7 weights on Garland–Heckbert quadrics).
@@ -410,6 +437,7 @@ pub fn decimate_constrained(
     }
     let collapses = decimator.collapses;
     let rejected = decimator.rejected;
+    let candidates = decimator.candidates;
     let mesh = decimator.into_mesh()?;
     let faces_after = mesh.num_faces();
     Ok(Simplified {
@@ -421,6 +449,7 @@ pub fn decimate_constrained(
         collapses,
         rejected,
         passes,
+        candidates,
     })
 }
 

@@ -28,3 +28,4 @@ mod real_meshes;
 mod render;
 mod simplify;
 mod simplify_real_meshes;
+mod simplify_strips;
