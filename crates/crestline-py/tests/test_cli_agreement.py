@@ -18,6 +18,7 @@ CASES = [
     ("bumpy/mc", []),
     ("ring/reg5k", []),
     ("ridge/noisy20k", []),
+    ("bumpy/noisy20k", ["--debias"]),
     ("bumpy/reg5k", ["--method", "ybs"]),
     ("ovoid/reg5k", ["--method", "saliency"]),
     ("superquadric/reg5k", ["--estimator", "shape-operator", "--threshold", "auto"]),
@@ -34,7 +35,7 @@ def python_options(args):
     it = iter(args)
     for flag in it:
         name = flag.removeprefix("--").replace("-", "_")
-        if name in ("no_gaps", "no_noise_adaptation"):
+        if name in ("no_gaps", "no_noise_adaptation", "debias"):
             options[name] = True
             continue
         value = next(it)

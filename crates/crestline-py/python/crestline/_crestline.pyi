@@ -123,6 +123,7 @@ def extract(
     keep_orientation: bool = False,
     no_weld: bool = False,
     no_twicing: bool = False,
+    debias: bool = False,
 ) -> Lines:
     """Finds the ridges and valleys of the mesh (vertices, faces).
 
@@ -140,6 +141,8 @@ def extract(
     - creases: sharp creases, "auto" (default: above the gap in the histogram of dihedral
       angles, none on scans), "off", or a dihedral angle in degrees.
     - fair: fairing tolerance as a fraction of the diagonal (off).
+    - debias: on meshes the jet fit finds noisy, move HPW's and YBS's crest lines across by
+      the displacement its widened disc causes (off).
     - pre_smooth: mean-curvature-flow steps first (off).
     - estimator: "jet-fit" (default), "shape-operator" or "cubic-fit". Options of another
       estimator than the one that runs raise ValueError, as on the command line:

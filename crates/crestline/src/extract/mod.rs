@@ -11,6 +11,10 @@
 //! 6. polylines and threshold filtering ([`crate::lines::assemble`], [`crate::lines::filter`]),
 //! 7. optional spatial fairing ([`crate::lines::fair`]).
 //!
+//! Between 6 and 7, when asked ([`ExtractOptions::debias_lines`], off by default), for HPW
+//! and YBS on surfaces the jet fit found noisy, the crest lines are moved across by the
+//! displacement the fit's widened disc causes ([`crate::lines::debias`]).
+//!
 //! **Creases** (every method, [`ExtractOptions::creases`]): before step 1 the sharp creases of
 //! the mesh are found ([`crate::lines::crease`]; none on meshes whose dihedral angles have no
 //! gap, such as scans and smooth meshes). The curvature fits (jet fit) and the extremality
@@ -104,6 +108,7 @@ pub use options::{
 use crate::curvature::{self, Curvature, Estimator};
 use crate::error::Result;
 use crate::lines::crease::find_creases;
+use crate::lines::debias::{DebiasReport, debias_crest_lines};
 use crate::lines::fair::fair_lines;
 use crate::lines::filter::{LineFilter, StrengthMeasure, choose_line_threshold, filter_lines};
 use crate::lines::link::link_feature_points;
@@ -135,6 +140,8 @@ pub enum Stage {
     GapJumping,
     /// Step 6.
     Filtering,
+    /// Crest lines moved by the jet fit's bias (noisy surfaces; [`crate::lines::debias`]).
+    Debiasing,
     /// Step 7.
     Fairing,
     /// Crease curves merged with the crest lines.
@@ -152,6 +159,7 @@ impl Stage {
             Stage::Tracing => "tracing",
             Stage::GapJumping => "gap jumping",
             Stage::Filtering => "filtering",
+            Stage::Debiasing => "debiasing",
             Stage::Fairing => "fairing",
             Stage::Merging => "merging",
         }
@@ -203,6 +211,9 @@ pub struct ExtractStats {
     pub threshold_is_auto: bool,
     /// Gaps jumped (YBS).
     pub gaps_jumped: usize,
+    /// Line points moved by [`crate::lines::debias`] and their median move (all zero when it
+    /// did not run).
+    pub debias: DebiasReport,
     /// Wall time of each stage that ran, in order.
     pub stage_times: Vec<(Stage, Duration)>,
     /// The closed components found, the triangles rewound to agree with their neighbours and
@@ -327,6 +338,19 @@ pub fn extract_with_progress(
     let filter = line_filter(&traced, options, diagonal, &mut stats);
     let mut lines = filter_lines(traced, &filter, diagonal);
     clock.end(Stage::Filtering, t);
+
+    let fit_is_wide = noise_measured && curvature.extremality_noise > 0.0;
+    let traces_crests = matches!(options.pipeline, Pipeline::Hpw(_) | Pipeline::Ybs(_));
+    if options.debias_lines
+        && fit_is_wide
+        && traces_crests
+        && let Some(report) = curvature.jet_fit
+    {
+        let t = clock.begin(Stage::Debiasing);
+        let radius = report.radius * report.spacing;
+        stats.debias = debias_crest_lines(surface, &curvature, &mut lines, radius);
+        clock.end(Stage::Debiasing, t);
+    }
 
     if options.fairing.tolerance > 0.0 {
         let t = clock.begin(Stage::Fairing);

@@ -11,9 +11,13 @@
 //! Sharp creases are not crest lines: [`crease`] finds them as chains of mesh edges with a
 //! large dihedral angle, and [`merge`] puts them and the crest lines into one set
 //! ([`FeatureLine::crease`] tells them apart).
+//!
+//! On noisy surfaces [`debias`] moves the traced crest lines by the known displacement of the
+//! jet fit's wide disc.
 
 pub mod assemble;
 pub mod crease;
+pub mod debias;
 pub mod fair;
 pub mod filter;
 pub mod gap;
