@@ -16,7 +16,7 @@ fn failing_info(name: &str, contents: &[u8]) -> String {
     err
 }
 
-const KEYS: [&str; 15] = [
+const KEYS: [&str; 16] = [
     "vertices",
     "faces",
     "unreferenced_vertices",
@@ -31,6 +31,7 @@ const KEYS: [&str; 15] = [
     "bbox_min",
     "bbox_max",
     "diagonal",
+    "model_size",
     "mean_edge_length",
 ];
 

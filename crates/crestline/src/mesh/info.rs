@@ -51,6 +51,10 @@ pub struct MeshInfo {
     pub bbox_max: [f64; 3],
     /// Length of the bounding-box diagonal.
     pub diagonal: f64,
+    /// The size relative lengths of the feature-line pipeline are fractions of: the diagonal
+    /// of the largest connected component ([`TriMesh::model_size`]); the diagonal when the
+    /// mesh is one piece.
+    pub model_size: f64,
     /// Mean length of the edges.
     pub mean_edge_length: f64,
 }
@@ -87,6 +91,7 @@ impl MeshInfo {
             bbox_min: bbox.min,
             bbox_max: bbox.max,
             diagonal: bbox.diagonal(),
+            model_size: mesh.model_size(),
             mean_edge_length: mean_edge_length(mesh),
         }
     }
@@ -137,6 +142,16 @@ impl std::fmt::Display for MeshInfo {
             "bounding box           ({a:.6}, {b:.6}, {c:.6}) .. ({x:.6}, {y:.6}, {z:.6})"
         )?;
         writeln!(f, "diagonal               {:.6}", self.diagonal)?;
+        writeln!(
+            f,
+            "model size             {:.6}{}",
+            self.model_size,
+            if self.components > 1 {
+                " (diagonal of the largest part)"
+            } else {
+                ""
+            }
+        )?;
         write!(f, "mean edge length       {:.6}", self.mean_edge_length)
     }
 }
