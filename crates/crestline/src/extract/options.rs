@@ -273,9 +273,9 @@ pub struct ExtractOptions {
     /// F1 0.466 → 0.710 (YBS 0.483 → 0.737), on four more noisy bumpy spheres +0.10 to
     /// +0.25.
     ///
-    /// Default: false, for now: on the noisy ridge of `../shared/quality` it moves the
-    /// valleys away from the exact ones (F1 0.966 → 0.952; the noisy ellipsoids lose up to
-    /// 0.015), for a reason not yet found (see the module docs of [`crate::lines::debias`]).
+    /// Default: false, for now: it is new, and some noisy ellipsoids made like the public
+    /// ones lose up to 0.027 F1 with it (see the module docs of [`crate::lines::debias`]);
+    /// the public noisy ridge gains (0.966 → 0.969).
     pub debias_lines: bool,
     /// Step 7: spatial fairing; its tolerance is a fraction of the model size.
     /// Default: off.
