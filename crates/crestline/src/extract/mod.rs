@@ -276,7 +276,7 @@ pub fn extract_with_progress(
         triangles: mesh.num_faces(),
         ..Default::default()
     };
-    let oriented = orient_if_inward(mesh, options, &mut stats)?;
+    let oriented = orient_if_inward(mesh, options, &mut stats);
     let mesh = oriented.as_ref().unwrap_or(mesh);
     let mut clock = StageClock {
         progress,
@@ -387,17 +387,17 @@ fn orient_if_inward(
     mesh: &TriMesh,
     options: &ExtractOptions,
     stats: &mut ExtractStats,
-) -> Result<Option<TriMesh>> {
+) -> Option<TriMesh> {
     if !options.orient_outward {
-        return Ok(None);
+        return None;
     }
     // Classified once: the flags say what `orient_outward` would reverse.
     let (report, reverse) = orientation(mesh);
     stats.orientation = report;
     if report.inward == 0 && report.rewound_faces == 0 {
-        return Ok(None);
+        return None;
     }
-    Ok(Some(reverse_faces(mesh.clone(), &reverse)))
+    Some(reverse_faces(mesh.clone(), &reverse))
 }
 
 /// Traces the candidate lines of the chosen method: HPW's regular and singular triangles,

@@ -512,11 +512,7 @@ mod tests {
             e_max: vec![0.0; n],
             e_min: e,
             normals: vec![Vec3::z(); n],
-            fallback_vertices: 0,
-            extremality_noise: 0.0,
-            simulated_noise: Default::default(),
-            alternative_extremalities: Default::default(),
-            jet_fit: None,
+            ..Curvature::default()
         };
         let context = Context::new(&mesh, &curvature, radius);
         // 0.6 from the boundary at x = 2: its window (0.35) reaches vertices within R of it.
