@@ -44,8 +44,9 @@ use crate::mesh::mesh_from_arrays;
 ///   across: "auto" (default: the edges above the gap in the histogram of dihedral angles;
 ///   none when there is no gap, as on scans), "off", or a dihedral angle in degrees.
 /// - `fair`: spatial fairing, largest displacement as a fraction of the diagonal (off).
-/// - `debias`: on meshes the jet fit finds noisy, move HPW's and YBS's crest lines across by
-///   the displacement its widened disc causes (off).
+/// - `no_debias`: leave HPW's and YBS's crest lines where they are traced. By default, on
+///   meshes the jet fit finds noisy, they are moved across by the displacement its widened
+///   disc causes.
 /// - `pre_smooth`: steps of implicit mean-curvature flow before anything else (off).
 /// - `estimator`: "jet-fit" (default), "shape-operator" or "cubic-fit". The options of
 ///   one estimator given with another that runs are a `ValueError`, as on the command line:
@@ -84,7 +85,7 @@ use crate::mesh::mesh_from_arrays;
     direction_support = None, fair = None, pre_smooth = None, estimator = None,
     radius = None, degree = None, no_noise_adaptation = false, rings = None, mask = None,
     mask_spheres = None, mask_boxes = None, no_gaps = false, keep_orientation = false,
-    no_weld = false, no_twicing = false, debias = false,
+    no_weld = false, no_twicing = false, no_debias = false,
 ))]
 pub fn extract(
     py: Python<'_>,
@@ -112,7 +113,7 @@ pub fn extract(
     keep_orientation: bool,
     no_weld: bool,
     no_twicing: bool,
-    debias: bool,
+    no_debias: bool,
 ) -> PyResult<Lines> {
     let method = choose("method", method, &METHODS)?;
     let smooth_steps = smooth_steps.map(|n| count(n, "smooth_steps")).transpose()?;
@@ -174,7 +175,7 @@ pub fn extract(
     apply_threshold(&mut options, threshold)?;
     options.min_length = min_length.unwrap_or(options.min_length);
     options.fairing.tolerance = fair.unwrap_or(options.fairing.tolerance);
-    options.debias_lines = debias;
+    options.debias_lines = !no_debias;
     if let Some(steps) = pre_smooth {
         options.pre_smoothing = SurfaceSmoothing {
             steps,

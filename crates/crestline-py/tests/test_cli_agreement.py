@@ -18,7 +18,8 @@ CASES = [
     ("bumpy/mc", []),
     ("ring/reg5k", []),
     ("ridge/noisy20k", []),
-    ("bumpy/noisy20k", ["--debias"]),
+    ("bumpy/noisy20k", []),
+    ("bumpy/noisy20k", ["--no-debias"]),
     ("bumpy/reg5k", ["--method", "ybs"]),
     ("ovoid/reg5k", ["--method", "saliency"]),
     ("superquadric/reg5k", ["--estimator", "shape-operator", "--threshold", "auto"]),
@@ -35,7 +36,7 @@ def python_options(args):
     it = iter(args)
     for flag in it:
         name = flag.removeprefix("--").replace("-", "_")
-        if name in ("no_gaps", "no_noise_adaptation", "debias"):
+        if name in ("no_gaps", "no_noise_adaptation", "no_debias"):
             options[name] = True
             continue
         value = next(it)

@@ -135,11 +135,14 @@ pub struct Args {
     /// >= 0 (for example 0.002). Off by default.
     #[arg(long, value_parser = non_negative, allow_negative_numbers = true)]
     pub fair: Option<f64>,
-    /// On meshes the curvature fit finds noisy (its disc is then wide), move HPW's and YBS's
-    /// crest lines across by the displacement that disc is known to cause (a correction of
-    /// second order in its radius). Off by default: it helps broad bumps under noise a lot and
-    /// costs some lines that were right a little.
+    /// Leave HPW's and YBS's crest lines where the traced zeros of the extremalities are. By
+    /// default, on meshes the curvature fit finds noisy (its disc is then wide), they are
+    /// moved across by the displacement that disc is known to cause (a correction of second
+    /// order in its radius; nothing moves on clean meshes)
     #[arg(long)]
+    pub no_debias: bool,
+    /// Accepted for scripts written when the correction was opt-in; it is the default now
+    #[arg(long, hide = true, conflicts_with = "no_debias")]
     pub debias: bool,
     /// Surface pre-smoothing steps (implicit mean-curvature flow), for very noisy scans. Off
     /// by default (the jet fit adapts to noise); not for CAD meshes, whose surface beside the
@@ -645,7 +648,7 @@ pub fn options_from_args(args: &Args) -> Result<ExtractOptions> {
     if let Some(f) = args.fair {
         o.fairing.tolerance = f;
     }
-    o.debias_lines = args.debias;
+    o.debias_lines = !args.no_debias;
     if let Some(n) = args.pre_smooth {
         o.pre_smoothing = SurfaceSmoothing {
             steps: n,

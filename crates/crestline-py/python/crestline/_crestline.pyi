@@ -123,7 +123,7 @@ def extract(
     keep_orientation: bool = False,
     no_weld: bool = False,
     no_twicing: bool = False,
-    debias: bool = False,
+    no_debias: bool = False,
 ) -> Lines:
     """Finds the ridges and valleys of the mesh (vertices, faces).
 
@@ -141,8 +141,9 @@ def extract(
     - creases: sharp creases, "auto" (default: above the gap in the histogram of dihedral
       angles, none on scans), "off", or a dihedral angle in degrees.
     - fair: fairing tolerance as a fraction of the diagonal (off).
-    - debias: on meshes the jet fit finds noisy, move HPW's and YBS's crest lines across by
-      the displacement its widened disc causes (off).
+    - no_debias: leave HPW's and YBS's crest lines where they are traced. By default, on
+      meshes the jet fit finds noisy, they are moved across by the displacement its widened
+      disc causes.
     - pre_smooth: mean-curvature-flow steps first (off).
     - estimator: "jet-fit" (default), "shape-operator" or "cubic-fit". Options of another
       estimator than the one that runs raise ValueError, as on the command line:

@@ -11,7 +11,7 @@
 //! 6. polylines and threshold filtering ([`crate::lines::assemble`], [`crate::lines::filter`]),
 //! 7. optional spatial fairing ([`crate::lines::fair`]).
 //!
-//! Between 6 and 7, when asked ([`ExtractOptions::debias_lines`], off by default), for HPW
+//! Between 6 and 7 ([`ExtractOptions::debias_lines`], on by default), for HPW
 //! and YBS on surfaces the jet fit found noisy, the crest lines are moved across by the
 //! displacement the fit's widened disc causes ([`crate::lines::debias`]).
 //!
