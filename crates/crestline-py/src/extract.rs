@@ -44,7 +44,7 @@ use crate::mesh::mesh_from_arrays;
 ///   across: "auto" (default: the edges above the gap in the histogram of dihedral angles;
 ///   none when there is no gap, as on scans), "off", or a dihedral angle in degrees.
 /// - `fair`: spatial fairing, largest displacement as a fraction of the diagonal (off).
-/// - `no_debias`: leave HPW's and YBS's crest lines where they are traced. By default, on
+/// - `no_debias`: leave the crest lines where they are traced. By default, on
 ///   meshes the jet fit finds noisy, they are moved across by the displacement its widened
 ///   disc causes.
 /// - `pre_smooth`: steps of implicit mean-curvature flow before anything else (off).

@@ -135,7 +135,7 @@ pub struct Args {
     /// >= 0 (for example 0.002). Off by default.
     #[arg(long, value_parser = non_negative, allow_negative_numbers = true)]
     pub fair: Option<f64>,
-    /// Leave HPW's and YBS's crest lines where the traced zeros of the extremalities are. By
+    /// Leave the crest lines where the traced zeros of the extremalities are. By
     /// default, on meshes the curvature fit finds noisy (its disc is then wide), they are
     /// moved across by the displacement that disc is known to cause (a correction of second
     /// order in its radius; nothing moves on clean meshes)

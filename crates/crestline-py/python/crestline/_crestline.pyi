@@ -141,7 +141,7 @@ def extract(
     - creases: sharp creases, "auto" (default: above the gap in the histogram of dihedral
       angles, none on scans), "off", or a dihedral angle in degrees.
     - fair: fairing tolerance as a fraction of the diagonal (off).
-    - no_debias: leave HPW's and YBS's crest lines where they are traced. By default, on
+    - no_debias: leave the crest lines where they are traced. By default, on
       meshes the jet fit finds noisy, they are moved across by the displacement its widened
       disc causes.
     - pre_smooth: mean-curvature-flow steps first (off).

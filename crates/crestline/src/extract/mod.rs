@@ -11,9 +11,10 @@
 //! 6. polylines and threshold filtering ([`crate::lines::assemble`], [`crate::lines::filter`]),
 //! 7. optional spatial fairing ([`crate::lines::fair`]).
 //!
-//! Between 6 and 7 ([`ExtractOptions::debias_lines`], on by default), for HPW
-//! and YBS on surfaces the jet fit found noisy, the crest lines are moved across by the
-//! displacement the fit's widened disc causes ([`crate::lines::debias`]).
+//! Between 6 and 7 ([`ExtractOptions::debias_lines`], on by default), on surfaces the jet
+//! fit found noisy, the crest lines are moved across by the displacement the fit's widened
+//! disc causes ([`crate::lines::debias`]); so are the saliency method's, which are crest
+//! lines too (linked crest points).
 //!
 //! **Creases** (every method, [`ExtractOptions::creases`]): before step 1 the sharp creases of
 //! the mesh are found ([`crate::lines::crease`]; none on meshes whose dihedral angles have no
@@ -340,10 +341,8 @@ pub fn extract_with_progress(
     clock.end(Stage::Filtering, t);
 
     let fit_is_wide = noise_measured && curvature.extremality_noise > 0.0;
-    let traces_crests = matches!(options.pipeline, Pipeline::Hpw(_) | Pipeline::Ybs(_));
     if options.debias_lines
         && fit_is_wide
-        && traces_crests
         && let Some(report) = curvature.jet_fit
     {
         let t = clock.begin(Stage::Debiasing);

@@ -267,11 +267,12 @@ pub struct ExtractOptions {
     /// Lines shorter than this fraction of the model size are dropped (HPW step 6,
     /// for every method). Default: [`DEFAULT_MIN_LENGTH`].
     pub min_length: f64,
-    /// Move the crest lines of HPW and YBS across by the displacement the jet fit's disc
-    /// causes ([`crate::lines::debias`]), when the fit found the surface noisy (its disc is
-    /// then wide; on clean meshes nothing runs). Measured on the public `bumpy/noisy20k`:
-    /// F1 0.466 → 0.710 (YBS 0.483 → 0.737), on four more noisy bumpy spheres +0.10 to
-    /// +0.25.
+    /// Move the crest lines across by the displacement the jet fit's disc causes
+    /// ([`crate::lines::debias`]), when the fit found the surface noisy (its disc is then
+    /// wide; on clean meshes nothing runs); every method's lines are crest lines (the
+    /// saliency method's are linked crest points). Measured on the public `bumpy/noisy20k`:
+    /// F1 0.466 → 0.710 (YBS 0.483 → 0.737, saliency 0.466 → 0.815), on four more noisy
+    /// bumpy spheres +0.10 to +0.25.
     ///
     /// Default: true. On 24 further noisy surfaces made like the public ones (reg20k and
     /// irr20k moved along their normals, 0.07 and 0.1 of the mean edge) the bumpy spheres

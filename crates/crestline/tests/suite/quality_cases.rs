@@ -268,6 +268,14 @@ fn saliency_marching_cubes_superquadric() {
 }
 
 #[test]
+fn saliency_noisy_bumpy_sphere() {
+    // The saliency method's lines are crest lines, moved back by the fit's bias as HPW's
+    // (`lines::debias`): score.py 0.466 → 0.815, here (recall over every exact line, where
+    // the saliency method keeps the strong ones only) 0.244 → 0.431.
+    check_f1(Method::Saliency, "bumpy/noisy20k", 0.41);
+}
+
+#[test]
 fn saliency_noisy_torus_has_no_lines() {
     check_spurious(Method::Saliency, "ring/noisy20k", 0.1);
 }
