@@ -83,6 +83,7 @@
 use std::collections::HashMap;
 
 use nalgebra::{Matrix6, Vector6};
+use rayon::prelude::*;
 
 use super::assemble::integrate;
 use super::{FeatureLine, FeatureLines, LineKind, SurfacePoint};
@@ -131,15 +132,19 @@ pub fn debias_crest_lines(
     }
     let context = Context::new(mesh, curvature, radius);
     let shared = shared_ends(lines);
-    let mut shifts = Vec::new();
-    for line in lines.lines.iter_mut().filter(|l| !l.crease) {
-        if line.points.len() < 3 {
-            continue;
-        }
-        context.debias_line(line, &shared, &mut shifts);
-        let zeros = vec![0.0; line.points.len()];
-        line.length = integrate(&line.points, &zeros, &zeros, line.closed).0;
-    }
+    // Each line reads only itself, the fields and the shared ends (taken before any move).
+    let mut shifts: Vec<f64> = lines
+        .lines
+        .par_iter_mut()
+        .filter(|l| !l.crease && l.points.len() >= 3)
+        .flat_map_iter(|line| {
+            let mut shifts = Vec::new();
+            context.debias_line(line, &shared, &mut shifts);
+            let zeros = vec![0.0; line.points.len()];
+            line.length = integrate(&line.points, &zeros, &zeros, line.closed).0;
+            shifts
+        })
+        .collect();
     shifts.sort_by(f64::total_cmp);
     DebiasReport {
         moved: shifts.len(),
@@ -190,11 +195,13 @@ impl<'a> Context<'a> {
         let boundary = (!boundary.is_empty()).then(|| PointGrid::new(&boundary, radius));
         let one_sided = match &boundary {
             Some(grid) => positions
-                .iter()
+                .par_iter()
                 .map(|&q| grid.nearest_within(q, radius).is_some())
                 .collect(),
             None => Vec::new(),
         };
+        let (vertices, faces) =
+            rayon::join(|| PointGrid::new(positions, window), || FaceGrid::new(mesh));
         Context {
             mesh,
             curvature,
@@ -203,9 +210,9 @@ impl<'a> Context<'a> {
             spacing: curvature
                 .jet_fit
                 .map_or(radius / 8.0, |report| report.spacing),
-            vertices: PointGrid::new(positions, window),
+            vertices,
             boundary,
-            faces: FaceGrid::new(mesh),
+            faces,
         }
     }
 
