@@ -134,6 +134,7 @@ pub fn extract(
         .map(|b| rows_of_numbers::<7>(b, "mask_boxes", "(x0, y0, z0, x1, y1, z1, factor)"))
         .transpose()?;
     refuse_negative_factors(mask_spheres.as_deref(), "mask_spheres")?;
+    refuse_negative_radii(mask_spheres.as_deref())?;
     refuse_negative_factors(mask_boxes.as_deref(), "mask_boxes")?;
     let mut options = ExtractOptions::for_method(method);
     refuse_unused_options(method, &estimator, no_gaps, &options)?;
@@ -333,6 +334,19 @@ fn refuse_negative_factors<const N: usize>(rows: Option<&[[f64; N]]>, what: &str
         if !factor.is_finite() || factor < 0.0 {
             return Err(invalid(format!(
                 "{what}[{i}]: factor {factor} must be a finite number >= 0"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a sphere `(x, y, z, r, factor)` whose radius is negative or not finite, before any
+/// work (as the command line's `--mask-sphere`).
+fn refuse_negative_radii(spheres: Option<&[[f64; 5]]>) -> PyResult<()> {
+    for (i, &[.., radius, _]) in spheres.unwrap_or_default().iter().enumerate() {
+        if !(radius.is_finite() && radius >= 0.0) {
+            return Err(invalid(format!(
+                "mask_spheres[{i}]: radius {radius} must be a finite number >= 0"
             )));
         }
     }

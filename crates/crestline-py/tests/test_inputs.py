@@ -294,6 +294,8 @@ def test_negative_mask_factors_are_refused_before_the_work(fandisk):
     vertices, faces = fandisk
     with pytest.raises(ValueError, match=r"mask_spheres\[0\]: factor -1.* >= 0"):
         crestline.extract(vertices, faces, mask_spheres=[(0, 0, 0, 1, -1)])
+    with pytest.raises(ValueError, match=r"mask_spheres\[1\]: radius -1.* >= 0"):
+        crestline.extract(vertices, faces, mask_spheres=[(0, 0, 0, 1, 1), (0, 0, 0, -1, 1)])
     with pytest.raises(ValueError, match=r"mask_boxes\[1\]: factor NaN.* >= 0"):
         crestline.extract(
             vertices, faces, mask_boxes=[(0, 0, 0, 1, 1, 1, 1), (0, 0, 0, 1, 1, 1, float("nan"))]

@@ -378,7 +378,9 @@ impl ExtractOptions {
         if !(angle.is_finite() && (0.0..=std::f64::consts::PI).contains(&angle)) {
             return Err(Error::InvalidInput(format!(
                 "crease angle must be from 0 to 180 degrees, got {} degrees",
-                angle.to_degrees()
+                // Given in degrees and stored in radians: the round trip's last bits dropped
+                // (-3, not -3.0000000000000004).
+                (angle.to_degrees() * 1e9).round() / 1e9
             )));
         }
         Ok(())
@@ -437,5 +439,10 @@ mod tests {
                 "{what}"
             );
         }
+        // An angle given in degrees is named as given.
+        let mut options = ExtractOptions::default();
+        options.smoothing.crease_angle = (-3.0f64).to_radians();
+        let e = options.validate().unwrap_err().to_string();
+        assert!(e.ends_with("got -3 degrees"), "{e}");
     }
 }
