@@ -20,6 +20,7 @@ use crate::curvature::EstimatorArguments;
 use crate::error::{choose, invalid, name_of, to_py_err, type_name, wrong_type};
 use crate::lines::Lines;
 use crate::mesh::mesh_from_arrays;
+use crestline::curvature::Estimator;
 
 /// Finds the ridges and valleys of the mesh `(vertices, faces)`.
 ///
@@ -137,7 +138,7 @@ pub fn extract(
     refuse_negative_radii(mask_spheres.as_deref())?;
     refuse_negative_factors(mask_boxes.as_deref(), "mask_boxes")?;
     let mut options = ExtractOptions::for_method(method);
-    refuse_unused_options(method, &estimator, no_gaps, &options)?;
+    refuse_unused_options(method, &estimator, [no_gaps, no_debias], &options)?;
     // `mesh_from_arrays` orients the mesh, unless `keep_orientation`.
     options.orient_outward = false;
     if let Some(steps) = smooth_steps {
@@ -209,12 +210,12 @@ pub fn extract(
 }
 
 /// Refuses the options that `method` and the estimator that runs would not use, as the
-/// command-line tool does, naming the arguments: `no_gaps` but for YBS, and the options of
-/// another estimator ([`EstimatorArguments::unused`]).
+/// command-line tool does, naming the arguments: `no_gaps` but for YBS, `no_debias` but
+/// with the jet fit, and the options of another estimator ([`EstimatorArguments::unused`]).
 fn refuse_unused_options(
     method: Method,
     estimator: &EstimatorArguments,
-    no_gaps: bool,
+    [no_gaps, no_debias]: [bool; 2],
     defaults: &ExtractOptions,
 ) -> PyResult<()> {
     let mut unused = Vec::new();
@@ -222,6 +223,13 @@ fn refuse_unused_options(
         unused.push("no_gaps (gap jumping is part of method 'ybs' only)".to_owned());
     }
     unused.extend(estimator.unused(defaults.curvature.estimator));
+    if no_debias && estimator.estimator(defaults.curvature.estimator) != Estimator::JetFit {
+        unused.push(
+            "no_debias (the lines are moved back by the jet fit's bias only; the papers' \
+             estimators read no disc)"
+                .to_owned(),
+        );
+    }
     if unused.is_empty() {
         return Ok(());
     }

@@ -20,6 +20,7 @@ CASES = [
     ("ridge/noisy20k", []),
     ("bumpy/noisy20k", []),
     ("bumpy/noisy20k", ["--no-debias"]),
+    ("bumpy/noisy20k", ["--method", "saliency"]),
     ("bumpy/reg5k", ["--method", "ybs"]),
     ("ovoid/reg5k", ["--method", "saliency"]),
     ("superquadric/reg5k", ["--estimator", "shape-operator", "--threshold", "auto"]),

@@ -437,6 +437,7 @@ def test_curvature_names_the_unused_options(fandisk, options, message):
         ({"estimator": "cubic-fit", "no_noise_adaptation": True}, "no_noise_adaptation"),
         ({"no_gaps": True}, r"^options that method 'hpw' would not use: no_gaps \(gap jumping is part of method 'ybs' only\)$"),
         ({"method": "saliency", "no_gaps": True}, "options that method 'saliency' would not use: no_gaps"),
+        ({"rings": 2, "no_debias": True}, "would not use: no_debias .the lines are moved back by the jet fit's bias only"),
         (
             {"no_gaps": True, "radius": 3, "estimator": "cubic-fit"},
             "would not use: no_gaps .gap jumping is part of method 'ybs' only.; radius .it applies",

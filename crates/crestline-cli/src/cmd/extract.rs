@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
+use crestline::curvature::Estimator;
 use crestline::curvature::cubic_fit::MAX_RINGS;
 use crestline::extract::{
     ExtractOptions, ExtractStats, Extraction, Method, Pipeline, Stage, extract_with_progress,
@@ -502,6 +503,14 @@ fn check_method_options(args: &Args) -> Result<()> {
         unused.push("--no-gaps (gap jumping is part of --method ybs only)".into());
     }
     unused.extend(args.estimator.unused(defaults.curvature.estimator));
+    if args.no_debias && args.estimator.estimator(defaults.curvature.estimator) != Estimator::JetFit
+    {
+        unused.push(
+            "--no-debias (the lines are moved back by the jet fit's bias only; the papers' \
+             estimators read no disc)"
+                .into(),
+        );
+    }
     if !unused.is_empty() {
         bail!(
             "options that --method {method_name} would not use: {}",

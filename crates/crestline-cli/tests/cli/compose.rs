@@ -435,6 +435,7 @@ fn one_meaning_per_flag_and_ranges_checked_up_front() {
             "--radius",
         ),
         (vec!["--direction-support", "1"], "--direction-support"),
+        (vec!["--rings", "2", "--no-debias"], "--no-debias"),
     ] {
         let mut all = vec!["extract", s(&mesh), "-o", s(&o)];
         all.extend(&args);
@@ -444,6 +445,22 @@ fn one_meaning_per_flag_and_ranges_checked_up_front() {
             "{args:?}: {err}"
         );
     }
+    // The correction is the default: the flag of when it was opt-in is accepted, not with
+    // its opposite.
+    assert!(
+        run(&["extract", s(&mesh), "-o", s(&o), "-q", "--debias"])
+            .status
+            .success()
+    );
+    let err = fails(run(&[
+        "extract",
+        s(&mesh),
+        "-o",
+        s(&o),
+        "--debias",
+        "--no-debias",
+    ]));
+    assert!(err.contains("cannot be used with"), "{err}");
     // simplify refuses a bad ratio before extracting anything.
     let err = fails(run(&["simplify", s(&mesh), "-o", s(&o), "--ratio", "2"]));
     assert!(

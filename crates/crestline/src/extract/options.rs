@@ -271,12 +271,12 @@ pub struct ExtractOptions {
     /// ([`crate::lines::debias`]), when the fit found the surface noisy (its disc is then
     /// wide; on clean meshes nothing runs); every method's lines are crest lines (the
     /// saliency method's are linked crest points). Measured on the public `bumpy/noisy20k`:
-    /// F1 0.466 → 0.710 (YBS 0.483 → 0.737, saliency 0.466 → 0.815), on four more noisy
+    /// F1 0.466 → 0.710 (YBS 0.483 → 0.739, saliency 0.466 → 0.815), on four more noisy
     /// bumpy spheres +0.10 to +0.25.
     ///
     /// Default: true. On 24 further noisy surfaces made like the public ones (reg20k and
     /// irr20k moved along their normals, 0.07 and 0.1 of the mean edge) the bumpy spheres
-    /// gain 0.08 to 0.25 and the others move by −0.026 to +0.002 (the ellipsoid's symmetric
+    /// gain 0.15 to 0.28 and the others move by −0.026 to 0.000 (the ellipsoid's symmetric
     /// crest has no bias to remove, only the noise of its estimate; see the module docs of
     /// [`crate::lines::debias`]). False keeps the traced lines where the fit put them.
     pub debias_lines: bool,
@@ -376,11 +376,18 @@ impl ExtractOptions {
         }
         let angle = self.smoothing.crease_angle;
         if !(angle.is_finite() && (0.0..=std::f64::consts::PI).contains(&angle)) {
+            // Given in degrees and stored in radians: the round trip's last bits dropped
+            // (-3, not -3.0000000000000004), unless that would hide the value (a tiny
+            // negative angle, a huge one).
+            let degrees = angle.to_degrees();
+            let rounded = (degrees * 1e9).round() / 1e9;
+            let shown = if rounded != 0.0 && rounded.is_finite() {
+                rounded
+            } else {
+                degrees
+            };
             return Err(Error::InvalidInput(format!(
-                "crease angle must be from 0 to 180 degrees, got {} degrees",
-                // Given in degrees and stored in radians: the round trip's last bits dropped
-                // (-3, not -3.0000000000000004).
-                (angle.to_degrees() * 1e9).round() / 1e9
+                "crease angle must be from 0 to 180 degrees, got {shown} degrees"
             )));
         }
         Ok(())

@@ -68,7 +68,7 @@
 //! On 24 further noisy surfaces made alike (the public reg20k and irr20k of the bumpy sphere,
 //! ovoid, ridge and superquadric moved along their exact normals by 0.07 and 0.1 of the
 //! mean edge, three seeds; `score.py --cases`) the mean F1 goes 0.795 → 0.838: the bumpy
-//! spheres +0.08 to +0.28, the others −0.026 to +0.002. The saliency method's lines (linked
+//! spheres +0.15 to +0.28, the others −0.026 to 0.000. The saliency method's lines (linked
 //! crest points) alike: `bumpy/noisy20k` 0.466 → 0.815, the 24 made alike 0.700 → 0.750
 //! (bumps +0.15 to +0.30, the others −0.012 to +0.001).
 //! *Limit:* where the crest is symmetric (the ovoid's equator) there is no bias to remove and
