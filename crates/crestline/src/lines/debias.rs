@@ -88,6 +88,7 @@ use rayon::prelude::*;
 use super::assemble::integrate;
 use super::{FeatureLine, FeatureLines, LineKind, SurfacePoint};
 use crate::curvature::Curvature;
+use crate::curvature::jet_fit::one_sided_vertices;
 use crate::mesh::{TriMesh, Vec3};
 use crate::spatial::{FaceGrid, PointGrid};
 
@@ -193,13 +194,7 @@ impl<'a> Context<'a> {
             .map(|v| positions[v as usize])
             .collect();
         let boundary = (!boundary.is_empty()).then(|| PointGrid::new(&boundary, radius));
-        let one_sided = match &boundary {
-            Some(grid) => positions
-                .par_iter()
-                .map(|&q| grid.nearest_within(q, radius).is_some())
-                .collect(),
-            None => Vec::new(),
-        };
+        let one_sided = one_sided_vertices(mesh, radius);
         let (vertices, faces) =
             rayon::join(|| PointGrid::new(positions, window), || FaceGrid::new(mesh));
         Context {

@@ -50,6 +50,7 @@
 use rayon::prelude::*;
 
 use crate::curvature::Curvature;
+use crate::curvature::jet_fit::one_sided_vertices;
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3, mean_edge_length};
 
@@ -235,7 +236,7 @@ pub fn smooth_extremalities(
         return Ok(());
     }
     let smoother = ExtremalitySmoother::new(mesh, curvature, &*options.operator()?)?;
-    run_steps(&smoother, curvature, options)
+    run_steps(mesh, &smoother, curvature, options)
 }
 
 /// [`smooth_extremalities`] without diffusion across `creases` (per edge of
@@ -257,12 +258,13 @@ pub fn smooth_extremalities_split(
     }
     let smoother =
         ExtremalitySmoother::new_split(mesh, curvature, &*options.operator()?, Some(creases))?;
-    run_steps(&smoother, curvature, options)
+    run_steps(mesh, &smoother, curvature, options)
 }
 
 /// The steps of `options` on the extremalities, the second model's and the simulated noise
 /// (all linear in the values, so smoothed alike), with twicing when asked.
 fn run_steps(
+    mesh: &TriMesh,
     smoother: &ExtremalitySmoother<'_>,
     curvature: &mut Curvature,
     options: &ExtremalitySmoothing,
@@ -291,7 +293,11 @@ fn run_steps(
     if curvature.extremality_noise > 0.0 {
         let [mut a, mut b] = std::mem::take(&mut curvature.simulated_noise);
         smooth(&mut a, &mut b, NOISE_TOLERANCE)?;
-        curvature.set_simulated_noise([a, b]);
+        // The fit's one-sided discs, as when the noise was first measured.
+        let one_sided = curvature.jet_fit.map_or_else(Vec::new, |fit| {
+            one_sided_vertices(mesh, fit.radius * fit.spacing)
+        });
+        curvature.set_simulated_noise([a, b], &one_sided);
     }
     Ok(())
 }

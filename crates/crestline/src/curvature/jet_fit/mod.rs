@@ -293,7 +293,7 @@ pub fn jet_fit_split(
         for x in simulated.iter_mut().flatten() {
             *x *= probe.sigma;
         }
-        curvature.set_simulated_noise(simulated);
+        curvature.set_simulated_noise(simulated, &one_sided_vertices(mesh, radius * spacing));
     }
     let report = JetFitReport {
         spacing,
@@ -344,6 +344,25 @@ pub fn sample_spacing(mesh: &TriMesh) -> f64 {
         return 0.0;
     }
     (2.0 * area / (3f64.sqrt() * used as f64)).sqrt()
+}
+
+/// Per vertex, whether a disc of `radius` (model units) around it reaches a boundary vertex
+/// of the mesh: its fit is one-sided, with another bias and more noise than a full disc's.
+/// Empty when the mesh has no boundary (no vertex is).
+pub fn one_sided_vertices(mesh: &TriMesh, radius: f64) -> Vec<bool> {
+    let topo = mesh.topology();
+    let boundary: Vec<Vec3> = (0..mesh.num_vertices() as u32)
+        .filter(|&v| topo.is_boundary_vertex(v))
+        .map(|v| mesh.position(v))
+        .collect();
+    if boundary.is_empty() || !(radius.is_finite() && radius > 0.0) {
+        return Vec::new();
+    }
+    let grid = crate::spatial::PointGrid::new(&boundary, radius);
+    mesh.positions()
+        .par_iter()
+        .map(|&q| grid.nearest_within(q, radius).is_some())
+        .collect()
 }
 
 /// Barycentric vertex areas: a third of the areas of each vertex's triangles.
