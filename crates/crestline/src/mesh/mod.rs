@@ -31,7 +31,7 @@ pub use subdivide::{SubdivideOptions, loop_subdivide};
 pub use topology::{EdgeKind, Topology, VertexKind};
 pub use weld::{Weld, coincident_vertices, weld_coincident, welded};
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 
@@ -54,6 +54,9 @@ pub struct TriMesh {
     positions: Vec<Vec3>,
     topology: Arc<Topology>,
     degenerate_faces: usize,
+    /// [`TriMesh::model_size`], computed once (a union-find over the faces; an extraction
+    /// reads it in four places). The winding does not change it; new positions get a new one.
+    model_size: OnceLock<f64>,
 }
 
 impl TriMesh {
@@ -117,6 +120,7 @@ impl TriMesh {
             positions,
             topology: Arc::new(topology),
             degenerate_faces,
+            model_size: OnceLock::new(),
         })
     }
 
@@ -150,6 +154,7 @@ impl TriMesh {
             positions,
             topology: Arc::clone(&self.topology),
             degenerate_faces: self.degenerate_faces,
+            model_size: OnceLock::new(),
         })
     }
 
@@ -288,7 +293,7 @@ impl TriMesh {
     /// # }
     /// ```
     pub fn model_size(&self) -> f64 {
-        geometry::model_size(self)
+        *self.model_size.get_or_init(|| geometry::model_size(self))
     }
 
     /// Counts and health figures for reports (`crestline info`).
