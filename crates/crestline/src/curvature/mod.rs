@@ -97,6 +97,11 @@ pub struct Curvature {
     /// a crest ([`crate::lines::assemble::is_resolved`]). Smoothed with the extremalities.
     /// Empty for the other estimators.
     pub alternative_extremalities: [Vec<f64>; 2],
+    /// Per vertex, whether the jet fit's disc reached the mesh boundary: a one-sided fit, with
+    /// another bias and more noise than a full disc's
+    /// ([`jet_fit::one_sided_vertices`](crate::curvature::jet_fit::one_sided_vertices)).
+    /// Empty for the other estimators and for meshes without a boundary.
+    pub one_sided: Vec<bool>,
     /// What the jet fit measured and chose (sample spacing, radius, noise level); `None` for
     /// the other estimators.
     pub jet_fit: Option<JetFitReport>,
@@ -122,13 +127,14 @@ impl Curvature {
 
     /// Sets [`Curvature::simulated_noise`] and the noise level it implies: its median
     /// absolute value over both families divided by 0.6745 (the standard deviation, for
-    /// normal noise), at the vertices whose disc is not `one_sided` (per vertex; empty: none
-    /// is), or at every vertex when fewer than [`MIN_NOISE_SAMPLES`] are left. The fits of
+    /// normal noise), at the vertices whose disc is not [`Curvature::one_sided`], or at every
+    /// vertex when fewer than [`MIN_NOISE_SAMPLES`] are left. The fits of
     /// one-sided discs, within the fit's radius of a boundary, have a larger noise; the
     /// median alone does not keep it out when they are many (the public noisy ridge, an open
     /// height field with a disc of 9 spacings: a third of its vertices, and a level of 0.99
     /// where the interior's is 0.82 and the error against the exact fields 0.8 to 1.06).
-    pub fn set_simulated_noise(&mut self, simulated: [Vec<f64>; 2], one_sided: &[bool]) {
+    pub fn set_simulated_noise(&mut self, simulated: [Vec<f64>; 2]) {
+        let one_sided = &self.one_sided;
         let interior = |v: usize| !one_sided.get(v).copied().unwrap_or(false);
         let count = (0..self.len()).filter(|&v| interior(v)).count();
         let sample = |v: usize| count < MIN_NOISE_SAMPLES || interior(v);
@@ -505,6 +511,7 @@ where
         extremality_noise: 0.0,
         simulated_noise: Default::default(),
         alternative_extremalities: Default::default(),
+        one_sided: Vec::new(),
         jet_fit: None,
     };
     let mut fallback = vec![false; n];
@@ -568,16 +575,20 @@ mod tests {
             .collect();
         let mut c = Curvature {
             k_max: vec![0.0; n],
+            one_sided,
             ..Curvature::default()
         };
-        c.set_simulated_noise([family.clone(), family.clone()], &one_sided);
+        c.set_simulated_noise([family.clone(), family.clone()]);
         assert!((c.extremality_noise - 1.0 / 0.6745).abs() < 1e-12);
         // Without the flags, or with too few interior vertices left, every vertex counts.
-        c.set_simulated_noise([family.clone(), family.clone()], &[]);
+        c.one_sided = Vec::new();
+        c.set_simulated_noise([family.clone(), family.clone()]);
         assert!((c.extremality_noise - 10.0 / 0.6745).abs() < 1e-12);
-        let mostly: Vec<bool> = (0..n).map(|v| v >= MIN_NOISE_SAMPLES / 2).collect();
-        let family: Vec<f64> = (0..n).map(|v| if mostly[v] { 10.0 } else { 1.0 }).collect();
-        c.set_simulated_noise([family.clone(), family], &mostly);
+        c.one_sided = (0..n).map(|v| v >= MIN_NOISE_SAMPLES / 2).collect();
+        let family: Vec<f64> = (0..n)
+            .map(|v| if c.one_sided[v] { 10.0 } else { 1.0 })
+            .collect();
+        c.set_simulated_noise([family.clone(), family]);
         assert!((c.extremality_noise - 10.0 / 0.6745).abs() < 1e-12);
     }
 

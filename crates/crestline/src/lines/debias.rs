@@ -194,7 +194,12 @@ impl<'a> Context<'a> {
             .map(|v| positions[v as usize])
             .collect();
         let boundary = (!boundary.is_empty()).then(|| PointGrid::new(&boundary, radius));
-        let one_sided = one_sided_vertices(mesh, radius);
+        // The fit's own flags when it has them (the same radius in `extract`).
+        let one_sided = if curvature.one_sided.len() == mesh.num_vertices() {
+            curvature.one_sided.clone()
+        } else {
+            one_sided_vertices(mesh, radius)
+        };
         let (vertices, faces) =
             rayon::join(|| PointGrid::new(positions, window), || FaceGrid::new(mesh));
         Context {

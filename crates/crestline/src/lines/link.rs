@@ -573,6 +573,7 @@ mod tests {
             extremality_noise: 0.0,
             simulated_noise: Default::default(),
             alternative_extremalities: Default::default(),
+            one_sided: Vec::new(),
             jet_fit: None,
         };
         let mut saliency = vec![0.1; n];

@@ -50,7 +50,6 @@
 use rayon::prelude::*;
 
 use crate::curvature::Curvature;
-use crate::curvature::jet_fit::one_sided_vertices;
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3, mean_edge_length};
 
@@ -236,7 +235,7 @@ pub fn smooth_extremalities(
         return Ok(());
     }
     let smoother = ExtremalitySmoother::new(mesh, curvature, &*options.operator()?)?;
-    run_steps(mesh, &smoother, curvature, options)
+    run_steps(&smoother, curvature, options)
 }
 
 /// [`smooth_extremalities`] without diffusion across `creases` (per edge of
@@ -258,13 +257,12 @@ pub fn smooth_extremalities_split(
     }
     let smoother =
         ExtremalitySmoother::new_split(mesh, curvature, &*options.operator()?, Some(creases))?;
-    run_steps(mesh, &smoother, curvature, options)
+    run_steps(&smoother, curvature, options)
 }
 
 /// The steps of `options` on the extremalities, the second model's and the simulated noise
 /// (all linear in the values, so smoothed alike), with twicing when asked.
 fn run_steps(
-    mesh: &TriMesh,
     smoother: &ExtremalitySmoother<'_>,
     curvature: &mut Curvature,
     options: &ExtremalitySmoothing,
@@ -293,11 +291,7 @@ fn run_steps(
     if curvature.extremality_noise > 0.0 {
         let [mut a, mut b] = std::mem::take(&mut curvature.simulated_noise);
         smooth(&mut a, &mut b, NOISE_TOLERANCE)?;
-        // The fit's one-sided discs, as when the noise was first measured.
-        let one_sided = curvature.jet_fit.map_or_else(Vec::new, |fit| {
-            one_sided_vertices(mesh, fit.radius * fit.spacing)
-        });
-        curvature.set_simulated_noise([a, b], &one_sided);
+        curvature.set_simulated_noise([a, b]);
     }
     Ok(())
 }
@@ -483,6 +477,7 @@ mod tests {
             extremality_noise: 0.0,
             simulated_noise: Default::default(),
             alternative_extremalities: Default::default(),
+            one_sided: Vec::new(),
             jet_fit: None,
         };
         for (i, p) in mesh.positions().iter().enumerate() {

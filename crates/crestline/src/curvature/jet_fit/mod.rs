@@ -289,11 +289,12 @@ pub fn jet_fit_split(
     };
     let (mut curvature, mut simulated, alternative) = context.run(radius);
     curvature.alternative_extremalities = alternative;
+    curvature.one_sided = one_sided_vertices(mesh, radius * spacing);
     if noise > REFERENCE_NOISE {
         for x in simulated.iter_mut().flatten() {
             *x *= probe.sigma;
         }
-        curvature.set_simulated_noise(simulated, &one_sided_vertices(mesh, radius * spacing));
+        curvature.set_simulated_noise(simulated);
     }
     let report = JetFitReport {
         spacing,
