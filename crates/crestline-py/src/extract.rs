@@ -48,6 +48,9 @@ use crestline::curvature::Estimator;
 /// - `no_debias`: leave the crest lines where they are traced. By default, on
 ///   meshes the jet fit finds noisy, they are moved across by the displacement its widened
 ///   disc causes.
+/// - `keep_unlocated`: keep the lines the noise moves about for the strength threshold. By
+///   default, on meshes the jet fit finds white noise on, HPW and YBS drop the lines whose
+///   extremality crosses zero less than twice as steeply as its estimation noise.
 /// - `pre_smooth`: steps of implicit mean-curvature flow before anything else (off).
 /// - `estimator`: "jet-fit" (default), "shape-operator" or "cubic-fit". The options of
 ///   one estimator given with another that runs are a `ValueError`, as on the command line:
@@ -86,7 +89,7 @@ use crestline::curvature::Estimator;
     direction_support = None, fair = None, pre_smooth = None, estimator = None,
     radius = None, degree = None, no_noise_adaptation = false, rings = None, mask = None,
     mask_spheres = None, mask_boxes = None, no_gaps = false, keep_orientation = false,
-    no_weld = false, no_twicing = false, no_debias = false,
+    no_weld = false, no_twicing = false, no_debias = false, keep_unlocated = false,
 ))]
 pub fn extract(
     py: Python<'_>,
@@ -115,6 +118,7 @@ pub fn extract(
     no_weld: bool,
     no_twicing: bool,
     no_debias: bool,
+    keep_unlocated: bool,
 ) -> PyResult<Lines> {
     let method = choose("method", method, &METHODS)?;
     let smooth_steps = smooth_steps.map(|n| count(n, "smooth_steps")).transpose()?;
@@ -138,7 +142,12 @@ pub fn extract(
     refuse_negative_radii(mask_spheres.as_deref())?;
     refuse_negative_factors(mask_boxes.as_deref(), "mask_boxes")?;
     let mut options = ExtractOptions::for_method(method);
-    refuse_unused_options(method, &estimator, [no_gaps, no_debias], &options)?;
+    refuse_unused_options(
+        method,
+        &estimator,
+        [no_gaps, no_debias, keep_unlocated],
+        &options,
+    )?;
     // `mesh_from_arrays` orients the mesh, unless `keep_orientation`.
     options.orient_outward = false;
     if let Some(steps) = smooth_steps {
@@ -178,6 +187,7 @@ pub fn extract(
     options.min_length = min_length.unwrap_or(options.min_length);
     options.fairing.tolerance = fair.unwrap_or(options.fairing.tolerance);
     options.debias_lines = !no_debias;
+    options.drop_unlocated_lines = !keep_unlocated;
     if let Some(steps) = pre_smooth {
         options.pre_smoothing = SurfaceSmoothing {
             steps,
@@ -211,11 +221,12 @@ pub fn extract(
 
 /// Refuses the options that `method` and the estimator that runs would not use, as the
 /// command-line tool does, naming the arguments: `no_gaps` but for YBS, `no_debias` but
-/// with the jet fit, and the options of another estimator ([`EstimatorArguments::unused`]).
+/// with the jet fit, `keep_unlocated` but for HPW and YBS with the jet fit, and the options
+/// of another estimator ([`EstimatorArguments::unused`]).
 fn refuse_unused_options(
     method: Method,
     estimator: &EstimatorArguments,
-    [no_gaps, no_debias]: [bool; 2],
+    [no_gaps, no_debias, keep_unlocated]: [bool; 3],
     defaults: &ExtractOptions,
 ) -> PyResult<()> {
     let mut unused = Vec::new();
@@ -227,6 +238,21 @@ fn refuse_unused_options(
         unused.push(
             "no_debias (the lines are moved back by the jet fit's bias only; the papers' \
              estimators read no disc)"
+                .to_owned(),
+        );
+    }
+    if keep_unlocated && method == Method::Saliency {
+        unused.push(
+            "keep_unlocated (HPW and YBS drop the lines the noise moves about; the saliency \
+             method links feature points)"
+                .to_owned(),
+        );
+    } else if keep_unlocated
+        && estimator.estimator(defaults.curvature.estimator) != Estimator::JetFit
+    {
+        unused.push(
+            "keep_unlocated (only the jet fit measures the noise; the papers' estimators \
+             read no disc)"
                 .to_owned(),
         );
     }

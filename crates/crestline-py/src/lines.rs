@@ -276,6 +276,7 @@ fn stats_dict<'py>(
     d.set_item("singular_min", s.trace.singular_min)?;
     d.set_item("fallback_vertices", s.fallback_vertices)?;
     d.set_item("lines_traced", s.lines_traced)?;
+    d.set_item("lines_unlocated", s.lines_unlocated)?;
     d.set_item("lines", s.lines)?;
     d.set_item("ridges", s.ridges)?;
     d.set_item("valleys", s.valleys)?;
@@ -298,6 +299,8 @@ fn stats_dict<'py>(
             fit.set_item("noise_spacings", j.noise)?;
             fit.set_item("noise_sigma_spacings", j.sigma)?;
             fit.set_item("quartic_weight", j.quartic_weight)?;
+            fit.set_item("noise_growth", j.noise_growth)?;
+            fit.set_item("white_noise", j.white_noise())?;
             Some(fit)
         }
         None => None,

@@ -20,6 +20,7 @@ CASES = [
     ("ridge/noisy20k", []),
     ("bumpy/noisy20k", []),
     ("bumpy/noisy20k", ["--no-debias"]),
+    ("bumpy/noisy20k", ["--method", "ybs", "--keep-unlocated"]),
     ("bumpy/noisy20k", ["--method", "saliency"]),
     ("bumpy/reg5k", ["--method", "ybs"]),
     ("ovoid/reg5k", ["--method", "saliency"]),
@@ -37,7 +38,7 @@ def python_options(args):
     it = iter(args)
     for flag in it:
         name = flag.removeprefix("--").replace("-", "_")
-        if name in ("no_gaps", "no_noise_adaptation", "no_debias"):
+        if name in ("no_gaps", "no_noise_adaptation", "no_debias", "keep_unlocated"):
             options[name] = True
             continue
         value = next(it)

@@ -438,6 +438,8 @@ def test_curvature_names_the_unused_options(fandisk, options, message):
         ({"no_gaps": True}, r"^options that method 'hpw' would not use: no_gaps \(gap jumping is part of method 'ybs' only\)$"),
         ({"method": "saliency", "no_gaps": True}, "options that method 'saliency' would not use: no_gaps"),
         ({"rings": 2, "no_debias": True}, "would not use: no_debias .the lines are moved back by the jet fit's bias only"),
+        ({"method": "saliency", "keep_unlocated": True}, r"^options that method 'saliency' would not use: keep_unlocated \(HPW and YBS drop"),
+        ({"rings": 2, "keep_unlocated": True}, "would not use: keep_unlocated .only the jet fit measures the noise"),
         (
             {"no_gaps": True, "radius": 3, "estimator": "cubic-fit"},
             "would not use: no_gaps .gap jumping is part of method 'ybs' only.; radius .it applies",
@@ -449,6 +451,18 @@ def test_extract_refuses_options_the_run_would_not_use(fandisk, options, message
     # before any work.
     with pytest.raises(ValueError, match=message):
         crestline.extract(*fandisk, **options)
+
+
+def test_extract_drops_the_lines_the_noise_moves_about_unless_told_to_keep_them():
+    # The public noisy bumps: white noise, whose weak crests give lines that wander.
+    vertices, faces = crestline.read_mesh(case_path("bumpy/noisy20k"))
+    default = crestline.extract(vertices, faces)
+    assert default.stats["jet_fit"]["white_noise"]
+    assert default.stats["jet_fit"]["noise_growth"] == pytest.approx(1.0, abs=0.1)
+    assert default.stats["lines_unlocated"] > 0
+    kept = crestline.extract(vertices, faces, keep_unlocated=True)
+    assert kept.stats["lines_unlocated"] == 0
+    assert len(kept) > len(default)
 
 
 def test_extract_takes_the_jet_fit_and_crease_options(fandisk):

@@ -145,6 +145,13 @@ pub struct Args {
     /// Accepted for scripts written when the correction was opt-in; it is the default now
     #[arg(long, hide = true, conflicts_with = "no_debias")]
     pub debias: bool,
+    /// Keep the lines the noise moves about for the strength threshold. By default, on
+    /// meshes the curvature fit finds white noise on (`--stats` says), HPW and YBS drop the
+    /// lines whose extremality crosses zero less than twice as steeply as its estimation
+    /// noise: they wander off the weak crests they follow (nothing is dropped on clean
+    /// meshes, nor on scans whose residual is mostly surface)
+    #[arg(long)]
+    pub keep_unlocated: bool,
     /// Surface pre-smoothing steps (implicit mean-curvature flow), for very noisy scans. Off
     /// by default (the jet fit adapts to noise); not for CAD meshes, whose surface beside the
     /// creases it rounds into short spurious crest lines.
@@ -511,6 +518,21 @@ fn check_method_options(args: &Args) -> Result<()> {
                 .into(),
         );
     }
+    if args.keep_unlocated && method == Method::Saliency {
+        unused.push(
+            "--keep-unlocated (HPW and YBS drop the lines the noise moves about; the saliency \
+             method links feature points)"
+                .into(),
+        );
+    } else if args.keep_unlocated
+        && args.estimator.estimator(defaults.curvature.estimator) != Estimator::JetFit
+    {
+        unused.push(
+            "--keep-unlocated (only the jet fit measures the noise; the papers' estimators \
+             read no disc)"
+                .into(),
+        );
+    }
     if !unused.is_empty() {
         bail!(
             "options that --method {method_name} would not use: {}",
@@ -658,6 +680,7 @@ pub fn options_from_args(args: &Args) -> Result<ExtractOptions> {
         o.fairing.tolerance = f;
     }
     o.debias_lines = !args.no_debias;
+    o.drop_unlocated_lines = !args.keep_unlocated;
     if let Some(n) = args.pre_smooth {
         o.pre_smoothing = SurfaceSmoothing {
             steps: n,
@@ -806,6 +829,12 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
         pct(s.trace.singular_min)
     );
     out += &format!("lines traced           {}\n", s.lines_traced);
+    if s.lines_unlocated > 0 {
+        out += &format!(
+            "lines unlocated        {} (dropped: the noise moves them about)\n",
+            s.lines_unlocated
+        );
+    }
     out += &format!(
         "lines kept             {} ({})\n",
         s.lines,
@@ -841,8 +870,15 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
             j.quartic_weight,
             if j.noise > crestline::curvature::jet_fit::REFERENCE_NOISE {
                 format!(
-                    "{:.4} spacings (standard deviation {:.4})",
-                    j.noise, j.sigma
+                    "{:.4} spacings (standard deviation {:.4}; x{:.2} over twice the disc: {})",
+                    j.noise,
+                    j.sigma,
+                    j.noise_growth,
+                    if j.white_noise() {
+                        "white"
+                    } else {
+                        "not white"
+                    }
                 )
             } else {
                 "none measured".to_string()
@@ -873,6 +909,7 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
         "singular_max": s.trace.singular_max,
         "singular_min": s.trace.singular_min,
         "lines_traced": s.lines_traced,
+        "lines_unlocated": s.lines_unlocated,
         "lines": s.lines,
         // Crest lines and creases apart, as the JSON lines file counts them.
         "ridges": s.ridges,
@@ -895,6 +932,8 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
             "noise_spacings": j.noise,
             "noise_sigma_spacings": j.sigma,
             "quartic_weight": j.quartic_weight,
+            "noise_growth": j.noise_growth,
+            "white_noise": j.white_noise(),
         })),
         "load_seconds": io.load.as_secs_f64(),
         "write_seconds": io.write.as_secs_f64(),

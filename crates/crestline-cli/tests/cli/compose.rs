@@ -436,6 +436,11 @@ fn one_meaning_per_flag_and_ranges_checked_up_front() {
         ),
         (vec!["--direction-support", "1"], "--direction-support"),
         (vec!["--rings", "2", "--no-debias"], "--no-debias"),
+        (vec!["--rings", "2", "--keep-unlocated"], "--keep-unlocated"),
+        (
+            vec!["--method", "saliency", "--keep-unlocated"],
+            "--keep-unlocated",
+        ),
     ] {
         let mut all = vec!["extract", s(&mesh), "-o", s(&o)];
         all.extend(&args);

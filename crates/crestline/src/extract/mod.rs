@@ -16,6 +16,11 @@
 //! disc causes ([`crate::lines::debias`]); so are the saliency method's, which are crest
 //! lines too (linked crest points).
 //!
+//! Before the threshold of step 6 ([`ExtractOptions::drop_unlocated_lines`], on by default),
+//! on surfaces whose noise the jet fit finds white, the HPW and YBS lines whose extremality
+//! crosses zero less than twice as steeply as its estimation noise are dropped: the noise
+//! moves them about, off the weak crests they follow ([`crate::lines::located`]).
+//!
 //! **Creases** (every method, [`ExtractOptions::creases`]): before step 1 the sharp creases of
 //! the mesh are found ([`crate::lines::crease`]; none on meshes whose dihedral angles have no
 //! gap, such as scans and smooth meshes). The curvature fits (jet fit) and the extremality
@@ -113,6 +118,7 @@ use crate::lines::debias::{DebiasReport, debias_crest_lines};
 use crate::lines::fair::fair_lines;
 use crate::lines::filter::{LineFilter, StrengthMeasure, choose_line_threshold, filter_lines};
 use crate::lines::link::link_feature_points;
+use crate::lines::located::drop_unlocated_lines;
 use crate::lines::merge::merge_creases;
 use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
@@ -181,6 +187,9 @@ pub struct ExtractStats {
     pub jet_fit: Option<crate::curvature::JetFitReport>,
     /// Lines before filtering (after gap jumping).
     pub lines_traced: usize,
+    /// Lines dropped before the strength threshold because the noise moves them about
+    /// ([`crate::lines::located`]; 0 when that step did not run).
+    pub lines_unlocated: usize,
     /// Lines kept.
     pub lines: usize,
     /// Crest lines of the ridge family kept (creases apart, as the JSON lines file counts
@@ -336,6 +345,11 @@ pub fn extract_with_progress(
     stats.lines_traced = traced.lines.len();
 
     let t = clock.begin(Stage::Filtering);
+    let white_noise = curvature.jet_fit.is_some_and(|r| r.white_noise());
+    let crest_pipeline = !matches!(options.pipeline, Pipeline::Saliency(_));
+    if options.drop_unlocated_lines && white_noise && crest_pipeline {
+        stats.lines_unlocated = drop_unlocated_lines(surface, &curvature, &mut traced);
+    }
     let filter = line_filter(&traced, options, diagonal, &mut stats);
     let mut lines = filter_lines(traced, &filter, diagonal);
     clock.end(Stage::Filtering, t);

@@ -13,7 +13,8 @@
 //! ([`FeatureLine::crease`] tells them apart).
 //!
 //! On noisy surfaces [`debias`] moves the traced crest lines by the known displacement of the
-//! jet fit's wide disc.
+//! jet fit's wide disc; on surfaces with white noise [`located`] drops the lines the noise
+//! moves about.
 
 pub mod assemble;
 pub mod crease;
@@ -22,6 +23,7 @@ pub mod fair;
 pub mod filter;
 pub mod gap;
 pub mod link;
+pub mod located;
 pub mod merge;
 pub mod singular;
 pub mod trace;

@@ -1,0 +1,234 @@
+//! Dropping the crest lines that noise moves about: on a surface with white noise, a line is
+//! kept only where its extremality crosses zero more steeply than the estimation noise does.
+//!
+//! A traced line is a zero of the estimated extremality `e = e_true + ε`. Where `e` crosses
+//! steeply the noise ε moves the zero little (by `ε / |∂e/∂t|`); where the true slope is not
+//! above the noise's own, the zero goes where the noise takes it, and so does the line. The
+//! public noisy bumps (`../shared/quality`, `bumpy/noisy20k`) have weak crests between the
+//! bumps whose slope `|∂e/∂t|` on the clean mesh is 2 to 3 (the bumps' ridges 20 to 40):
+//! under noise of 0.1 spacings the lines traced along them (T up to 5.5, above the strength
+//! threshold) wander off them by two to four tolerances of the scorer (1% of the diagonal).
+//! The strength T does not see it: its cyclideness C = |(e_max, e_min)| is as large on a
+//! wandering line as on a located one.
+//!
+//! The noise's slope is known. The simulated noise ([`Curvature::simulated_noise`]) is what
+//! the estimator makes of white noise of the measured level, smoothed as the extremalities
+//! are; its root mean square change per unit length across the edges that run along the
+//! principal direction is the noise's slope σ_s ([`slope_noise`]). At the zero crossings of
+//! a Gaussian random field the slope is Rayleigh distributed (Rice's formula), with mean
+//! `σ_s √(π/2) ≈ 1.25 σ_s`: a line of noise alone measures 1.25 on average. A line is kept
+//! when the mean slope at its crossings ([`line_slope`]) is at least [`LOCATED_SLOPE`] = 2
+//! times σ_s: the noise δ of e then moves its zeros by at most δ / (2 σ_s), half the noise's
+//! correlation length.
+//!
+//! The simulated noise describes the estimation noise only when the surface's noise is
+//! white: on scans and coarse models, whose fit residual is mostly the surface the
+//! polynomial cannot follow, it overstates the noise of e many times (the cow's twelve ridges
+//! measure 0.04 to 1.7 times σ_s, the horse's lines from 0.27). The step runs only when the jet fit
+//! finds white noise ([`crate::curvature::jet_fit::JetFitReport::white_noise`]); of the
+//! shared meshes only the teapot's faceting passes for it (its four lines stay). Measured in
+//! BENCHMARKS.md, "Lines the noise moves about".
+
+use rayon::prelude::*;
+
+use super::trace::Family;
+use super::{FeatureLine, FeatureLines, LineKind, SurfacePoint};
+use crate::curvature::{Curvature, MIN_NOISE_SAMPLES};
+use crate::mesh::TriMesh;
+
+/// A line is located when the mean slope of its extremality at its edge crossings is at
+/// least this many times the noise's root mean square slope ([`slope_noise`]); noise alone
+/// averages 1.25 (see the module docs).
+pub const LOCATED_SLOPE: f64 = 2.0;
+
+/// Drops the lines of `lines` whose extremality does not cross zero at least
+/// [`LOCATED_SLOPE`] times as steeply as its simulated estimation noise, and returns how many
+/// it dropped. Lines without edge crossings along their principal direction are kept, and
+/// so is everything when `curvature` has no simulated noise.
+pub fn drop_unlocated_lines(
+    mesh: &TriMesh,
+    curvature: &Curvature,
+    lines: &mut FeatureLines,
+) -> usize {
+    let noise = [LineKind::Ridge, LineKind::Valley].map(|kind| slope_noise(mesh, curvature, kind));
+    let before = lines.lines.len();
+    lines.lines.retain(|line| {
+        let index = usize::from(line.kind == LineKind::Valley);
+        let Some(noise) = noise[index] else {
+            return true;
+        };
+        let family = Family::of(curvature, line.kind);
+        line_slope(mesh, &family, line).is_none_or(|slope| slope >= LOCATED_SLOPE * noise)
+    });
+    before - lines.lines.len()
+}
+
+/// The root mean square slope of the simulated noise of one family's extremality
+/// ([`Curvature::simulated_noise`]), over the edges within 60° of the family's principal
+/// direction ([`edge_slope`]) whose ends are not [`Curvature::one_sided`] (unless fewer than
+/// [`MIN_NOISE_SAMPLES`] are left); `None` without simulated noise.
+pub fn slope_noise(mesh: &TriMesh, curvature: &Curvature, kind: LineKind) -> Option<f64> {
+    let index = usize::from(kind == LineKind::Valley);
+    let noise = &curvature.simulated_noise[index];
+    if noise.len() != curvature.len() || noise.is_empty() {
+        return None;
+    }
+    let family = Family::of(curvature, kind);
+    let one_sided = |v: u32| {
+        curvature
+            .one_sided
+            .get(v as usize)
+            .copied()
+            .unwrap_or(false)
+    };
+    let sum = |interior_only: bool| {
+        mesh.topology()
+            .edges()
+            .par_iter()
+            .filter(|[a, b]| !interior_only || !(one_sided(*a) || one_sided(*b)))
+            .filter_map(|&[a, b]| edge_slope(mesh, &family, noise, a, b))
+            .map(|slope| (slope * slope, 1usize))
+            .reduce(|| (0.0, 0), |x, y| (x.0 + y.0, x.1 + y.1))
+    };
+    let (mut squares, mut count) = sum(true);
+    if count < MIN_NOISE_SAMPLES {
+        (squares, count) = sum(false);
+    }
+    (count > 0).then(|| (squares / count as f64).sqrt())
+}
+
+/// The mean slope `|∂e/∂t|` of the family's extremality at the line's edge crossings
+/// ([`edge_slope`]); `None` when no crossing is on an edge within 60° of the principal
+/// direction.
+pub fn line_slope(mesh: &TriMesh, family: &Family<'_>, line: &FeatureLine) -> Option<f64> {
+    let (sum, count) = line
+        .locations
+        .iter()
+        .filter_map(|location| match *location {
+            SurfacePoint::Edge { edge, .. } => {
+                let [a, b] = mesh.topology().edge(edge);
+                edge_slope(mesh, family, family.e, a, b)
+            }
+            _ => None,
+        })
+        .fold((0.0, 0usize), |(sum, count), slope| {
+            (sum + slope, count + 1)
+        });
+    (count > 0).then(|| sum / count as f64)
+}
+
+/// The change of `field` (a per-vertex value along the family's principal directions, as
+/// the extremality) from `a` to `b` per unit length along the principal direction, the
+/// directions of the two ends averaged with a common sign; `None` when the edge makes more
+/// than 60° with that direction (it then measures the change mostly along the line).
+pub fn edge_slope(
+    mesh: &TriMesh,
+    family: &Family<'_>,
+    field: &[f64],
+    a: u32,
+    b: u32,
+) -> Option<f64> {
+    let sign = family.relative_sign(a, b);
+    let direction = family.dirs[a as usize] + family.dirs[b as usize] * sign;
+    let edge = mesh.position(b) - mesh.position(a);
+    let norm = direction.norm();
+    if norm == 0.0 {
+        return None;
+    }
+    let along = edge.dot(&direction).abs() / norm;
+    (along > 0.5 * edge.norm())
+        .then(|| (field[b as usize] * sign - field[a as usize]).abs() / along)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Vec3;
+
+    /// The plane over [0, 10]² on a 10 × 10 grid (unit spacing), with the max family's
+    /// direction along x, the min family's along y, and `e_max` and the simulated noise of
+    /// both families given as functions of x.
+    fn plane(e_max: impl Fn(f64) -> f64, noise: impl Fn(f64) -> f64) -> (TriMesh, Curvature) {
+        let mesh = crate::shapes::height_field(|_, _| 0.0, [0.0, 10.0], [0.0, 10.0], 10, 10);
+        let n = mesh.num_vertices();
+        let x: Vec<f64> = mesh.positions().iter().map(|p| p.x).collect();
+        let simulated: Vec<f64> = x.iter().map(|&x| noise(x)).collect();
+        let curvature = Curvature {
+            k_max: vec![1.0; n],
+            k_min: vec![0.0; n],
+            dir_max: vec![Vec3::new(1.0, 0.0, 0.0); n],
+            dir_min: vec![Vec3::new(0.0, 1.0, 0.0); n],
+            e_max: x.iter().map(|&x| e_max(x)).collect(),
+            e_min: vec![0.0; n],
+            simulated_noise: [simulated.clone(), simulated],
+            ..Curvature::default()
+        };
+        (mesh, curvature)
+    }
+
+    /// A ridge across the plane at x = 5.5: the crossings of the edges from x = 5 to x = 6.
+    fn ridge_at_5_5(mesh: &TriMesh) -> FeatureLine {
+        let topo = mesh.topology();
+        let locations: Vec<SurfacePoint> = (0..topo.num_edges() as u32)
+            .filter(|&e| {
+                let [a, b] = topo.edge(e);
+                let (pa, pb) = (mesh.position(a), mesh.position(b));
+                pa.y == pb.y && pa.x.min(pb.x) == 5.0 && pa.x.max(pb.x) == 6.0
+            })
+            .map(|edge| SurfacePoint::Edge { edge, t: 0.5 })
+            .collect();
+        assert_eq!(locations.len(), 11);
+        let points = locations.iter().map(|_| Vec3::zeros()).collect();
+        FeatureLine {
+            locations,
+            ..FeatureLine::new(LineKind::Ridge, points, false)
+        }
+    }
+
+    #[test]
+    fn the_slope_noise_is_the_rms_change_along_the_direction() {
+        // Noise rising by 0.7 per unit of x: every edge within 60° of x (the grid's rows and
+        // diagonals) measures 0.7, the columns are left out.
+        let (mesh, curvature) = plane(|_| 0.0, |x| 0.7 * x);
+        let ridges = slope_noise(&mesh, &curvature, LineKind::Ridge).unwrap();
+        assert!((ridges - 0.7).abs() < 1e-12, "{ridges}");
+        // Along y the same noise does not change on the columns and changes by 0.7 per unit of
+        // y's projection on the diagonals.
+        let valleys = slope_noise(&mesh, &curvature, LineKind::Valley).unwrap();
+        assert!(valleys > 0.0 && valleys < 0.7, "{valleys}");
+        let clean = Curvature {
+            simulated_noise: Default::default(),
+            ..curvature
+        };
+        assert_eq!(slope_noise(&mesh, &clean, LineKind::Ridge), None);
+    }
+
+    #[test]
+    fn lines_are_kept_where_e_crosses_more_steeply_than_the_noise() {
+        let noise = |x: f64| if (x as i64) % 2 == 0 { 0.5 } else { -0.5 };
+        for (slope, kept) in [(2.5, true), (1.5, false)] {
+            let (mesh, curvature) = plane(|x| slope * (5.5 - x), noise);
+            // The noise alternates by ±0.5 from column to column: a slope of 1 along x on
+            // the rows and the diagonals.
+            let sigma = slope_noise(&mesh, &curvature, LineKind::Ridge).unwrap();
+            assert!((sigma - 1.0).abs() < 1e-12, "{sigma}");
+            let line = ridge_at_5_5(&mesh);
+            let family = Family::of(&curvature, LineKind::Ridge);
+            let measured = line_slope(&mesh, &family, &line).unwrap();
+            assert!((measured - slope).abs() < 1e-12, "{measured}");
+            let mut lines = FeatureLines { lines: vec![line] };
+            let dropped = drop_unlocated_lines(&mesh, &curvature, &mut lines);
+            assert_eq!(
+                (dropped, lines.lines.len()),
+                (usize::from(!kept), usize::from(kept))
+            );
+        }
+        // Without simulated noise nothing is dropped.
+        let (mesh, mut curvature) = plane(|x| 0.1 * (5.5 - x), noise);
+        curvature.simulated_noise = Default::default();
+        let mut lines = FeatureLines {
+            lines: vec![ridge_at_5_5(&mesh)],
+        };
+        assert_eq!(drop_unlocated_lines(&mesh, &curvature, &mut lines), 0);
+    }
+}
