@@ -38,7 +38,7 @@ use crestline::curvature::Estimator;
 ///   largest part when the mesh has several) are dropped (default 0.01).
 /// - `smooth_steps`, `smooth_time`: extremality smoothing steps (default 2 for HPW and YBS,
 ///   run when the curvature estimate finds the surface noisy; giving a number always runs
-///   them) and step size relative to the squared mean edge length (default 1).
+///   them; at most 1000) and step size relative to the squared mean edge length (default 1).
 /// - `crease_angle`: damp the smoothing across curvature jumps of about this angle, in
 ///   degrees (default 0.3 rad, about 17.2; 0 with `no_twicing` is HPW's plain smoothing).
 /// - `creases`: sharp creases, traced as lines of their own and not smoothed or fitted
@@ -51,7 +51,8 @@ use crestline::curvature::Estimator;
 /// - `keep_unlocated`: keep the lines the noise moves about for the strength threshold. By
 ///   default, on meshes the jet fit finds white noise on, HPW and YBS drop the lines whose
 ///   extremality crosses zero less than twice as steeply as its estimation noise.
-/// - `pre_smooth`: steps of implicit mean-curvature flow before anything else (off).
+/// - `pre_smooth`: steps of implicit mean-curvature flow before anything else (off; at most
+///   1000).
 /// - `estimator`: "jet-fit" (default), "shape-operator" or "cubic-fit". The options of
 ///   one estimator given with another that runs are a `ValueError`, as on the command line:
 /// - `radius`, `degree`, `no_noise_adaptation` (jet fit): radius of the disc in sample

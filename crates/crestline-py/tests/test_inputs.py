@@ -226,6 +226,14 @@ def test_negative_counts_raise_value_error(function, options, message):
         function(*tetrahedron(), **options)
 
 
+@pytest.mark.parametrize("name", ["pre_smooth", "smooth_steps"])
+def test_smoothing_steps_have_a_ceiling(name):
+    # A thousand steps at most: more is a mistake that ran for ever, and Ctrl-C reaches
+    # Python only between stages.
+    with pytest.raises(ValueError, match=r"steps must be at most 1000, got 1000000000"):
+        crestline.extract(*tetrahedron(), **{name: 10**9})
+
+
 def test_counts_take_numpy_integers(fandisk):
     vertices, faces = fandisk
     np.testing.assert_array_equal(

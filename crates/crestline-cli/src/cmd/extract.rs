@@ -93,7 +93,8 @@ pub struct Args {
     /// (`--stats` shows the noise it measured) and none on clean ones, where the fit has
     /// averaged enough; 2 with --estimator shape-operator or cubic-fit. Any other smoothing
     /// option (--smooth-time, --no-twicing, --crease-angle, --mask*) makes the 2 steps run on
-    /// clean meshes too. 0 turns it off, which for YBS is the method as published.
+    /// clean meshes too. 0 turns it off, which for YBS is the method as published. At most
+    /// 1000 (more smoothing: a larger --smooth-time).
     #[arg(long, value_parser = whole_number::<usize>, allow_negative_numbers = true)]
     pub smooth_steps: Option<usize>,
     /// Extremality smoothing step size T, relative to the squared mean edge length, above 0
@@ -154,7 +155,7 @@ pub struct Args {
     pub keep_unlocated: bool,
     /// Surface pre-smoothing steps (implicit mean-curvature flow), for very noisy scans. Off
     /// by default (the jet fit adapts to noise); not for CAD meshes, whose surface beside the
-    /// creases it rounds into short spurious crest lines.
+    /// creases it rounds into short spurious crest lines. At most 1000.
     #[arg(long, value_parser = whole_number::<usize>, allow_negative_numbers = true)]
     pub pre_smooth: Option<usize>,
     #[command(flatten)]

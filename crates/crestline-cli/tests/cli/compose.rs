@@ -466,6 +466,14 @@ fn one_meaning_per_flag_and_ranges_checked_up_front() {
         "--no-debias",
     ]));
     assert!(err.contains("cannot be used with"), "{err}");
+    // Smoothing steps have a ceiling: more ran for ever.
+    for flag in ["--smooth-steps", "--pre-smooth"] {
+        let err = fails(run(&["extract", s(&mesh), "-o", s(&o), flag, "1000000000"]));
+        assert!(
+            err.contains("steps must be at most 1000, got 1000000000"),
+            "{flag}: {err}"
+        );
+    }
     // simplify refuses a bad ratio before extracting anything.
     let err = fails(run(&["simplify", s(&mesh), "-o", s(&o), "--ratio", "2"]));
     assert!(

@@ -136,7 +136,7 @@ def extract(
     - threshold: a number or "auto". HPW: strength T, default 1; YBS and saliency: "auto".
     - min_length: fraction of the bounding-box diagonal, of the largest part when the mesh
       has several (default 0.01).
-    - smooth_steps (default 2, run on noisy surfaces; a number always runs them), smooth_time
+    - smooth_steps (default 2, run on noisy surfaces; a number always runs them; at most 1000), smooth_time
       (default 1, relative to the squared mean edge length).
     - crease_angle: degrees (default 0.3 rad, about 17.2; 0 with no_twicing is HPW's plain smoothing).
     - creases: sharp creases, "auto" (default: above the gap in the histogram of dihedral
@@ -148,7 +148,7 @@ def extract(
     - keep_unlocated: keep the lines the noise moves about (HPW and YBS with the jet fit; by
       default, on meshes the jet fit finds white noise on, the lines whose extremality crosses
       zero less than twice as steeply as its estimation noise are dropped).
-    - pre_smooth: mean-curvature-flow steps first (off).
+    - pre_smooth: mean-curvature-flow steps first (off; at most 1000).
     - estimator: "jet-fit" (default), "shape-operator" or "cubic-fit". Options of another
       estimator than the one that runs raise ValueError, as on the command line:
     - radius, degree, no_noise_adaptation (jet fit): the disc radius in sample spacings

@@ -107,8 +107,8 @@ mod options;
 use std::time::{Duration, Instant};
 
 pub use options::{
-    DEFAULT_MIN_LENGTH, ExtractOptions, HPW_DEFAULT_THRESHOLD, HpwOptions, Method, MwzOptions,
-    Pipeline, YBS_DEFAULT_SMOOTHING_STEPS, YBS_DEFAULT_THRESHOLD, YbsOptions,
+    DEFAULT_MIN_LENGTH, ExtractOptions, HPW_DEFAULT_THRESHOLD, HpwOptions, MAX_SMOOTHING_STEPS,
+    Method, MwzOptions, Pipeline, YBS_DEFAULT_SMOOTHING_STEPS, YBS_DEFAULT_THRESHOLD, YbsOptions,
 };
 
 use crate::curvature::{self, Curvature, Estimator};

@@ -387,6 +387,26 @@ impl ExtractOptions {
                 )));
             }
         }
+        for (steps, what, larger) in [
+            (
+                self.pre_smoothing.steps,
+                "surface pre-smoothing steps",
+                "the flow's time step",
+            ),
+            (
+                self.smoothing.steps,
+                "extremality smoothing steps",
+                "the smoothing time step",
+            ),
+        ] {
+            if steps > MAX_SMOOTHING_STEPS {
+                return Err(Error::InvalidInput(format!(
+                    "{what} must be at most {MAX_SMOOTHING_STEPS}, got {steps} (each step \
+                     solves a system over the whole mesh; for more smoothing use fewer steps \
+                     and a larger {larger})"
+                )));
+            }
+        }
         let angle = self.smoothing.crease_angle;
         if !(angle.is_finite() && (0.0..=std::f64::consts::PI).contains(&angle)) {
             // Given in degrees and stored in radians: the round trip's last bits dropped
@@ -406,6 +426,13 @@ impl ExtractOptions {
         Ok(())
     }
 }
+
+/// The most steps of surface pre-smoothing and of extremality smoothing
+/// [`ExtractOptions::validate`] accepts. Each step solves a linear system over the whole
+/// mesh (igea: about 0.1 s, horse ×16 about 0.4 s), so a thousand take minutes; any amount of
+/// smoothing is reached with fewer steps of a larger time step. A count of 10⁹, given by
+/// mistake, ran for ever, and from Python it cannot be interrupted within the stage.
+pub const MAX_SMOOTHING_STEPS: usize = 1000;
 
 /// The largest [`ExtremalitySmoothing::time_step`] [`ExtractOptions::validate`] accepts. One
 /// step diffuses over about `sqrt(time_step)` rings: at 1e6 a thousand, beyond the extent of
@@ -431,7 +458,7 @@ mod tests {
             assert!(ExtractOptions::for_method(method).validate().is_ok());
         }
         type Spoil = fn(&mut ExtractOptions);
-        let bad: [(Spoil, &str); 8] = [
+        let bad: [(Spoil, &str); 10] = [
             (|o| o.min_length = -0.1, "minimum line length"),
             (|o| o.min_length = f64::NAN, "minimum line length"),
             (|o| o.fairing.tolerance = f64::INFINITY, "fairing tolerance"),
@@ -446,6 +473,14 @@ mod tests {
                 |o| o.pipeline.set_threshold(Threshold::Fixed(-1.0)),
                 "threshold",
             ),
+            (
+                |o| o.pre_smoothing.steps = 1_000_000_000,
+                "pre-smoothing steps must be at most 1000, got 1000000000",
+            ),
+            (
+                |o| o.smoothing.steps = MAX_SMOOTHING_STEPS + 1,
+                "extremality smoothing steps must be at most 1000",
+            ),
         ];
         for (spoil, what) in bad {
             let mut options = ExtractOptions::default();
@@ -459,6 +494,11 @@ mod tests {
                 "{what}"
             );
         }
+        // The most steps are accepted.
+        let mut options = ExtractOptions::default();
+        options.pre_smoothing.steps = MAX_SMOOTHING_STEPS;
+        options.smoothing.steps = MAX_SMOOTHING_STEPS;
+        assert!(options.validate().is_ok());
         // An angle given in degrees is named as given.
         let mut options = ExtractOptions::default();
         options.smoothing.crease_angle = (-3.0f64).to_radians();

@@ -84,7 +84,9 @@ pub fn smooth_surface(mesh: &TriMesh, options: &SurfaceSmoothing) -> Result<TriM
             return e;
         }
         Error::Solver(format!(
-            "surface pre-smoothing failed at step {} of {}: the flow has collapsed the surface              (triangles of no area) after {step} steps; use fewer steps or a smaller time step              ({e})",
+            "surface pre-smoothing failed at step {} of {}: the flow has collapsed the surface \
+             (triangles of no area) after {step} steps; use fewer steps or a smaller time step \
+             ({e})",
             step + 1,
             options.steps
         ))
@@ -230,6 +232,8 @@ mod tests {
         let message = smooth_surface(&mesh, &options).unwrap_err().to_string();
         assert!(message.contains("collapsed the surface"), "{message}");
         assert!(message.contains("use fewer steps"), "{message}");
+        // One sentence, without the source's indentation in it.
+        assert!(!message.contains("  "), "{message}");
     }
 
     #[test]
