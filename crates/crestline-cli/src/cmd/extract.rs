@@ -871,7 +871,7 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
             j.quartic_weight,
             if j.noise > crestline::curvature::jet_fit::REFERENCE_NOISE {
                 format!(
-                    "{:.4} spacings (standard deviation {:.4}; x{:.2} over twice the disc: {})",
+                    "{:.4} spacings (standard deviation {:.4}; x{:.2} from 2.5 to 5 spacings: {})",
                     j.noise,
                     j.sigma,
                     j.noise_growth,

@@ -635,3 +635,52 @@ fn render_clips_the_colour_range_and_checks_it() {
     ]));
     assert!(err.contains("below 50"), "{err}");
 }
+
+#[test]
+fn stats_say_whether_the_noise_is_white_and_how_many_lines_it_moved_about() {
+    // A sphere moved along its radius by uniform noise of 0.1 sample spacings: white noise,
+    // whose zero crossings of the extremalities are lines the noise moves about.
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = crestline::shapes::icosphere(1.0, 4);
+    let spacing = crestline::curvature::jet_fit::sample_spacing(&sphere);
+    let mut state = 12345u64;
+    let positions = sphere
+        .positions()
+        .iter()
+        .map(|p| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let u = (state >> 11) as f64 / (1u64 << 53) as f64;
+            let q = p * (1.0 + 0.1 * spacing * 3f64.sqrt() * (2.0 * u - 1.0));
+            [q.x, q.y, q.z]
+        })
+        .collect();
+    let noisy = crestline::TriMesh::from_arrays(positions, sphere.faces().to_vec()).unwrap();
+    let path = dir.path().join("noisy.obj");
+    write_mesh(&path, &noisy, Format::Obj, &WriteOptions::default()).unwrap();
+    let out = dir.path().join("lines.obj");
+    let text = |extra: &[&str]| {
+        let mut args = vec!["extract", s(&path), "-o", s(&out), "--stats"];
+        args.extend(extra);
+        let output = ok(run(&args));
+        // The table goes to standard error, `--stats=json` to standard output.
+        let table = stderr(&output);
+        String::from_utf8(output.stdout).unwrap() + &table
+    };
+    let default = text(&[]);
+    assert!(
+        default.contains("from 2.5 to 5 spacings: white"),
+        "{default}"
+    );
+    assert!(default.contains("lines unlocated"), "{default}");
+    let kept = text(&["--keep-unlocated"]);
+    assert!(!kept.contains("lines unlocated"), "{kept}");
+    let args = ["extract", s(&path), "-o", s(&out), "--stats=json", "-q"];
+    let json = String::from_utf8(ok(run(&args)).stdout).unwrap();
+    let stats: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(stats["jet_fit"]["white_noise"], true, "{json}");
+    let growth = stats["jet_fit"]["noise_growth"].as_f64().unwrap();
+    assert!((growth - 1.0).abs() < 0.1, "{json}");
+    assert!(stats["lines_unlocated"].as_u64().unwrap() > 0, "{json}");
+}

@@ -348,7 +348,7 @@ pub fn extract_with_progress(
     let white_noise = curvature.jet_fit.is_some_and(|r| r.white_noise());
     let crest_pipeline = !matches!(options.pipeline, Pipeline::Saliency(_));
     if options.drop_unlocated_lines && white_noise && crest_pipeline {
-        stats.lines_unlocated = drop_unlocated_lines(surface, &curvature, &mut traced);
+        stats.lines_unlocated = drop_unlocated_lines(surface, &curvature, split, &mut traced);
     }
     let filter = line_filter(&traced, options, diagonal, &mut stats);
     let mut lines = filter_lines(traced, &filter, diagonal);

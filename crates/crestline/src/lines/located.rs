@@ -1,5 +1,7 @@
 //! Dropping the crest lines that noise moves about: on a surface with white noise, a line is
 //! kept only where its extremality crosses zero more steeply than the estimation noise does.
+//! Not a step of the papers (HPW and YBS filter by strength alone); crestline's own, for
+//! noisy meshes.
 //!
 //! A traced line is a zero of the estimated extremality `e = e_true + ε`. Where `e` crosses
 //! steeply the noise ε moves the zero little (by `ε / |∂e/∂t|`); where the true slope is not
@@ -15,11 +17,21 @@
 //! the estimator makes of white noise of the measured level, smoothed as the extremalities
 //! are; its root mean square change per unit length across the edges that run along the
 //! principal direction is the noise's slope σ_s ([`slope_noise`]). At the zero crossings of
-//! a Gaussian random field the slope is Rayleigh distributed (Rice's formula), with mean
-//! `σ_s √(π/2) ≈ 1.25 σ_s`: a line of noise alone measures 1.25 on average. A line is kept
+//! a stationary Gaussian process the slope is Rayleigh distributed (S. O. Rice, *Mathematical
+//! analysis of random noise*, Bell System Technical Journal 23–24, 1944–45), with mean
+//! `σ_s √(π/2) ≈ 1.25 σ_s`: a line of noise alone measures about 1.25 σ_s. A line is kept
 //! when the mean slope at its crossings ([`line_slope`]) is at least [`LOCATED_SLOPE`] = 2
-//! times σ_s: the noise δ of e then moves its zeros by at most δ / (2 σ_s), half the noise's
-//! correlation length.
+//! times σ_s: a noise of one standard deviation δ then moves its zeros by δ / (2 σ_s) or less
+//! on average, half the noise's own length scale δ / σ_s (zeros of the noise alone are about
+//! π δ / σ_s apart).
+//!
+//! Both slopes are measured the same way, as the change of the field along an edge within 60°
+//! of the principal direction divided by the edge's length along it ([`edge_slope`]). On an
+//! edge at an angle θ to the direction this adds `tan θ` times the change across the
+//! direction: the noise's σ_s is read about 1.3 times its slope along the direction alone
+//! (isotropic noise, edges up to 60°), and so are the crossings of a line of noise, while a
+//! crest, along which e hardly changes, is read at its slope. The bound 2 is in this measure,
+//! about 2.6 in slopes along the direction.
 //!
 //! The simulated noise describes the estimation noise only when the surface's noise is
 //! white: on scans and coarse models, whose fit residual is mostly the surface the
@@ -44,13 +56,17 @@ pub const LOCATED_SLOPE: f64 = 2.0;
 /// Drops the lines of `lines` whose extremality does not cross zero at least
 /// [`LOCATED_SLOPE`] times as steeply as its simulated estimation noise, and returns how many
 /// it dropped. Lines without edge crossings along their principal direction are kept, and
-/// so is everything when `curvature` has no simulated noise.
+/// so is everything when `curvature` has no simulated noise. `creases` flags the crease
+/// edges (per edge of [`crate::mesh::Topology::edges`]) the extremalities were smoothed
+/// apart at, if any ([`slope_noise`]).
 pub fn drop_unlocated_lines(
     mesh: &TriMesh,
     curvature: &Curvature,
+    creases: Option<&[bool]>,
     lines: &mut FeatureLines,
 ) -> usize {
-    let noise = [LineKind::Ridge, LineKind::Valley].map(|kind| slope_noise(mesh, curvature, kind));
+    let noise =
+        [LineKind::Ridge, LineKind::Valley].map(|kind| slope_noise(mesh, curvature, creases, kind));
     let before = lines.lines.len();
     lines.lines.retain(|line| {
         let index = usize::from(line.kind == LineKind::Valley);
@@ -65,27 +81,39 @@ pub fn drop_unlocated_lines(
 
 /// The root mean square slope of the simulated noise of one family's extremality
 /// ([`Curvature::simulated_noise`]), over the edges within 60° of the family's principal
-/// direction ([`edge_slope`]) whose ends are not [`Curvature::one_sided`] (unless fewer than
-/// [`MIN_NOISE_SAMPLES`] are left); `None` without simulated noise.
-pub fn slope_noise(mesh: &TriMesh, curvature: &Curvature, kind: LineKind) -> Option<f64> {
+/// direction ([`edge_slope`]) whose ends are neither [`Curvature::one_sided`] nor on one of
+/// the `creases` (unless fewer than [`MIN_NOISE_SAMPLES`] edges are left); `None` without
+/// simulated noise. The smoothing does not reach across a crease and leaves the noise of
+/// crease vertices as it is: their edges would count it unsmoothed.
+pub fn slope_noise(
+    mesh: &TriMesh,
+    curvature: &Curvature,
+    creases: Option<&[bool]>,
+    kind: LineKind,
+) -> Option<f64> {
     let index = usize::from(kind == LineKind::Valley);
     let noise = &curvature.simulated_noise[index];
     if noise.len() != curvature.len() || noise.is_empty() {
         return None;
     }
     let family = Family::of(curvature, kind);
-    let one_sided = |v: u32| {
-        curvature
-            .one_sided
-            .get(v as usize)
-            .copied()
-            .unwrap_or(false)
+    let topology = mesh.topology();
+    let mut on_crease = vec![false; curvature.len()];
+    if let Some(creases) = creases {
+        for (&[a, b], _) in topology.edges().iter().zip(creases).filter(|(_, c)| **c) {
+            on_crease[a as usize] = true;
+            on_crease[b as usize] = true;
+        }
+    }
+    let apart = |v: u32| {
+        let one_sided = curvature.one_sided.get(v as usize).copied();
+        one_sided.unwrap_or(false) || on_crease.get(v as usize).copied().unwrap_or(false)
     };
     let sum = |interior_only: bool| {
-        mesh.topology()
+        topology
             .edges()
             .par_iter()
-            .filter(|[a, b]| !interior_only || !(one_sided(*a) || one_sided(*b)))
+            .filter(|[a, b]| !interior_only || !(apart(*a) || apart(*b)))
             .filter_map(|&[a, b]| edge_slope(mesh, &family, noise, a, b))
             .map(|slope| (slope * slope, 1usize))
             .reduce(|| (0.0, 0), |x, y| (x.0 + y.0, x.1 + y.1))
@@ -186,21 +214,51 @@ mod tests {
     }
 
     #[test]
+    fn crease_vertices_and_one_sided_discs_are_left_out_of_the_slope_noise() {
+        // Noise of slope 1 everywhere but between x = 4 and x = 6, where it is 10.
+        let ramp = |x: f64| {
+            if x <= 4.0 {
+                x
+            } else if x <= 6.0 {
+                4.0 + 10.0 * (x - 4.0)
+            } else {
+                18.0 + x
+            }
+        };
+        let (mesh, mut curvature) = plane(|_| 0.0, ramp);
+        let all = slope_noise(&mesh, &curvature, None, LineKind::Ridge).unwrap();
+        assert!(all > 2.0, "{all}");
+        // The column x = 5 a crease: every edge with an end on it is left out.
+        let creases: Vec<bool> = mesh
+            .topology()
+            .edges()
+            .iter()
+            .map(|&[a, b]| mesh.position(a).x == 5.0 && mesh.position(b).x == 5.0)
+            .collect();
+        let apart = slope_noise(&mesh, &curvature, Some(&creases), LineKind::Ridge).unwrap();
+        assert!((apart - 1.0).abs() < 1e-12, "{apart}");
+        // The same with the column's vertices one-sided.
+        curvature.one_sided = mesh.positions().iter().map(|p| p.x == 5.0).collect();
+        let one_sided = slope_noise(&mesh, &curvature, None, LineKind::Ridge).unwrap();
+        assert!((one_sided - 1.0).abs() < 1e-12, "{one_sided}");
+    }
+
+    #[test]
     fn the_slope_noise_is_the_rms_change_along_the_direction() {
         // Noise rising by 0.7 per unit of x: every edge within 60° of x (the grid's rows and
         // diagonals) measures 0.7, the columns are left out.
         let (mesh, curvature) = plane(|_| 0.0, |x| 0.7 * x);
-        let ridges = slope_noise(&mesh, &curvature, LineKind::Ridge).unwrap();
+        let ridges = slope_noise(&mesh, &curvature, None, LineKind::Ridge).unwrap();
         assert!((ridges - 0.7).abs() < 1e-12, "{ridges}");
         // Along y the same noise does not change on the columns and changes by 0.7 per unit of
         // y's projection on the diagonals.
-        let valleys = slope_noise(&mesh, &curvature, LineKind::Valley).unwrap();
+        let valleys = slope_noise(&mesh, &curvature, None, LineKind::Valley).unwrap();
         assert!(valleys > 0.0 && valleys < 0.7, "{valleys}");
         let clean = Curvature {
             simulated_noise: Default::default(),
             ..curvature
         };
-        assert_eq!(slope_noise(&mesh, &clean, LineKind::Ridge), None);
+        assert_eq!(slope_noise(&mesh, &clean, None, LineKind::Ridge), None);
     }
 
     #[test]
@@ -210,25 +268,39 @@ mod tests {
             let (mesh, curvature) = plane(|x| slope * (5.5 - x), noise);
             // The noise alternates by ±0.5 from column to column: a slope of 1 along x on
             // the rows and the diagonals.
-            let sigma = slope_noise(&mesh, &curvature, LineKind::Ridge).unwrap();
+            let sigma = slope_noise(&mesh, &curvature, None, LineKind::Ridge).unwrap();
             assert!((sigma - 1.0).abs() < 1e-12, "{sigma}");
             let line = ridge_at_5_5(&mesh);
             let family = Family::of(&curvature, LineKind::Ridge);
             let measured = line_slope(&mesh, &family, &line).unwrap();
             assert!((measured - slope).abs() < 1e-12, "{measured}");
             let mut lines = FeatureLines { lines: vec![line] };
-            let dropped = drop_unlocated_lines(&mesh, &curvature, &mut lines);
+            let dropped = drop_unlocated_lines(&mesh, &curvature, None, &mut lines);
             assert_eq!(
                 (dropped, lines.lines.len()),
                 (usize::from(!kept), usize::from(kept))
             );
         }
+        // The directions of every other vertex reversed, their extremalities and noise with
+        // them: the same field, the same slopes (the ends are compared with a common sign).
+        let (mesh, mut curvature) = plane(|x| 2.5 * (5.5 - x), noise);
+        for v in (1..curvature.len()).step_by(2) {
+            curvature.dir_max[v] = -curvature.dir_max[v];
+            curvature.e_max[v] = -curvature.e_max[v];
+            curvature.simulated_noise[0][v] = -curvature.simulated_noise[0][v];
+        }
+        let sigma = slope_noise(&mesh, &curvature, None, LineKind::Ridge).unwrap();
+        assert!((sigma - 1.0).abs() < 1e-12, "{sigma}");
+        let line = ridge_at_5_5(&mesh);
+        let family = Family::of(&curvature, LineKind::Ridge);
+        let measured = line_slope(&mesh, &family, &line).unwrap();
+        assert!((measured - 2.5).abs() < 1e-12, "{measured}");
         // Without simulated noise nothing is dropped.
         let (mesh, mut curvature) = plane(|x| 0.1 * (5.5 - x), noise);
         curvature.simulated_noise = Default::default();
         let mut lines = FeatureLines {
             lines: vec![ridge_at_5_5(&mesh)],
         };
-        assert_eq!(drop_unlocated_lines(&mesh, &curvature, &mut lines), 0);
+        assert_eq!(drop_unlocated_lines(&mesh, &curvature, None, &mut lines), 0);
     }
 }
