@@ -48,10 +48,10 @@ use crestline::curvature::Estimator;
 /// - `no_debias`: leave the crest lines where they are traced. By default, on
 ///   meshes the jet fit finds noisy, they are moved across by the displacement its widened
 ///   disc causes.
-/// - `keep_unlocated`: keep the lines the noise moves about for the strength threshold (HPW
-///   and YBS with the jet fit only). By default, on meshes the jet fit finds white noise on,
-///   they drop the lines whose extremality crosses zero less than twice as steeply as its
-///   estimation noise.
+/// - `keep_unlocated`: keep the lines the noise moves about, and their ends (HPW and YBS
+///   with the jet fit only). By default, on meshes the jet fit finds white noise on, they
+///   drop the lines whose extremality crosses zero less than twice as steeply as its
+///   estimation noise, and cut such ends off the lines they keep.
 /// - `pre_smooth`: steps of implicit mean-curvature flow before anything else (off; at most
 ///   1000).
 /// - `estimator`: "jet-fit" (default), "shape-operator" or "cubic-fit". The options of

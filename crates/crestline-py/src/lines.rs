@@ -277,6 +277,7 @@ fn stats_dict<'py>(
     d.set_item("fallback_vertices", s.fallback_vertices)?;
     d.set_item("lines_traced", s.lines_traced)?;
     d.set_item("lines_unlocated", s.lines_unlocated)?;
+    d.set_item("lines_trimmed", s.lines_trimmed)?;
     d.set_item("lines", s.lines)?;
     d.set_item("ridges", s.ridges)?;
     d.set_item("valleys", s.valleys)?;

@@ -146,11 +146,11 @@ pub struct Args {
     /// Accepted for scripts written when the correction was opt-in; it is the default now
     #[arg(long, hide = true, conflicts_with = "no_debias")]
     pub debias: bool,
-    /// Keep the lines the noise moves about for the strength threshold. By default, on
-    /// meshes the curvature fit finds white noise on (`--stats` says), HPW and YBS drop the
-    /// lines whose extremality crosses zero less than twice as steeply as its estimation
-    /// noise: they wander off the weak crests they follow (nothing is dropped on clean
-    /// meshes, nor on scans whose residual is mostly surface)
+    /// Keep the lines the noise moves about, and their ends. By default, on meshes the
+    /// curvature fit finds white noise on (`--stats` says), HPW and YBS drop the lines whose
+    /// extremality crosses zero less than twice as steeply as its estimation noise, and cut
+    /// such ends off the lines they keep: they wander off the weak crests they follow
+    /// (nothing is dropped on clean meshes, nor on scans whose residual is mostly surface)
     #[arg(long)]
     pub keep_unlocated: bool,
     /// Surface pre-smoothing steps (implicit mean-curvature flow), for very noisy scans. Off
@@ -836,6 +836,12 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
             s.lines_unlocated
         );
     }
+    if s.lines_trimmed > 0 {
+        out += &format!(
+            "lines trimmed          {} (ends the noise moves about cut off)\n",
+            s.lines_trimmed
+        );
+    }
     out += &format!(
         "lines kept             {} ({})\n",
         s.lines,
@@ -911,6 +917,7 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
         "singular_min": s.trace.singular_min,
         "lines_traced": s.lines_traced,
         "lines_unlocated": s.lines_unlocated,
+        "lines_trimmed": s.lines_trimmed,
         "lines": s.lines,
         // Crest lines and creases apart, as the JSON lines file counts them.
         "ridges": s.ridges,

@@ -145,9 +145,10 @@ def extract(
     - no_debias: leave the crest lines where they are traced. By default, on
       meshes the jet fit finds noisy, they are moved across by the displacement its widened
       disc causes.
-    - keep_unlocated: keep the lines the noise moves about (HPW and YBS with the jet fit; by
-      default, on meshes the jet fit finds white noise on, the lines whose extremality crosses
-      zero less than twice as steeply as its estimation noise are dropped).
+    - keep_unlocated: keep the lines the noise moves about, and their ends (HPW and YBS with
+      the jet fit; by default, on meshes the jet fit finds white noise on, the lines whose
+      extremality crosses zero less than twice as steeply as its estimation noise are dropped,
+      and such ends cut off the lines kept).
     - pre_smooth: mean-curvature-flow steps first (off; at most 1000).
     - estimator: "jet-fit" (default), "shape-operator" or "cubic-fit". Options of another
       estimator than the one that runs raise ValueError, as on the command line:

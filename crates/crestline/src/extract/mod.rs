@@ -19,7 +19,8 @@
 //! Before the threshold of step 6 ([`ExtractOptions::drop_unlocated_lines`], on by default),
 //! on surfaces whose noise the jet fit finds white, the HPW and YBS lines whose extremality
 //! crosses zero less than twice as steeply as its estimation noise are dropped: the noise
-//! moves them about, off the weak crests they follow ([`crate::lines::located`]).
+//! moves them about, off the weak crests they follow ([`crate::lines::located`]); after
+//! it, the ends of the lines kept are cut where they do so.
 //!
 //! **Creases** (every method, [`ExtractOptions::creases`]): before step 1 the sharp creases of
 //! the mesh are found ([`crate::lines::crease`]; none on meshes whose dihedral angles have no
@@ -118,7 +119,7 @@ use crate::lines::debias::{DebiasReport, debias_crest_lines};
 use crate::lines::fair::fair_lines;
 use crate::lines::filter::{LineFilter, StrengthMeasure, choose_line_threshold, filter_lines};
 use crate::lines::link::link_feature_points;
-use crate::lines::located::drop_unlocated_lines;
+use crate::lines::located::{drop_unlocated_lines, trim_unlocated_ends};
 use crate::lines::merge::merge_creases;
 use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
@@ -190,6 +191,9 @@ pub struct ExtractStats {
     /// Lines dropped before the strength threshold because the noise moves them about
     /// ([`crate::lines::located`]; 0 when that step did not run).
     pub lines_unlocated: usize,
+    /// Lines kept whose ends the noise moves about were cut off
+    /// ([`crate::lines::located::trim_unlocated_ends`]; 0 when that step did not run).
+    pub lines_trimmed: usize,
     /// Lines kept.
     pub lines: usize,
     /// Crest lines of the ridge family kept (creases apart, as the JSON lines file counts
@@ -347,11 +351,16 @@ pub fn extract_with_progress(
     let t = clock.begin(Stage::Filtering);
     let white_noise = curvature.jet_fit.is_some_and(|r| r.white_noise());
     let crest_pipeline = !matches!(options.pipeline, Pipeline::Saliency(_));
-    if options.drop_unlocated_lines && white_noise && crest_pipeline {
+    let locate = options.drop_unlocated_lines && white_noise && crest_pipeline;
+    if locate {
         stats.lines_unlocated = drop_unlocated_lines(surface, &curvature, split, &mut traced);
     }
     let filter = line_filter(&traced, options, diagonal, &mut stats);
     let mut lines = filter_lines(traced, &filter, diagonal);
+    if let (true, Some(report)) = (locate, curvature.jet_fit) {
+        let window = report.radius * report.spacing;
+        stats.lines_trimmed = trim_unlocated_ends(surface, &curvature, split, window, &mut lines);
+    }
     clock.end(Stage::Filtering, t);
 
     let fit_is_wide = noise_measured && curvature.extremality_noise > 0.0;

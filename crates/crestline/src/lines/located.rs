@@ -1,5 +1,6 @@
-//! Dropping the crest lines that noise moves about: on a surface with white noise, a line is
-//! kept only where its extremality crosses zero more steeply than the estimation noise does.
+//! Dropping the crest lines that noise moves about, and their ends: on a surface with white
+//! noise, a line is kept only where its extremality crosses zero more steeply than the
+//! estimation noise does.
 //! Not a step of the papers (HPW and YBS filter by strength alone); crestline's own, for
 //! noisy meshes.
 //!
@@ -33,6 +34,10 @@
 //! crest, along which e hardly changes, is read at its slope. The bound 2 is in this measure,
 //! about 2.6 in slopes along the direction.
 //!
+//! A line kept whole can still wander at its ends, where the crest it follows weakens:
+//! after the strength threshold its ends are cut while the mean slope of the crossings
+//! within half a fit radius along it is below the same bound ([`trim_unlocated_ends`]).
+//!
 //! The simulated noise describes the estimation noise only when the surface's noise is
 //! white: on scans and coarse models, whose fit residual is mostly the surface the
 //! polynomial cannot follow, it overstates the noise of e many times (the cow's twelve ridges
@@ -46,7 +51,7 @@ use rayon::prelude::*;
 use super::trace::Family;
 use super::{FeatureLine, FeatureLines, LineKind, SurfacePoint};
 use crate::curvature::{Curvature, MIN_NOISE_SAMPLES};
-use crate::mesh::TriMesh;
+use crate::mesh::{TriMesh, Vec3};
 
 /// A line is located when the mean slope of its extremality at its edge crossings is at
 /// least this many times the noise's root mean square slope ([`slope_noise`]); noise alone
@@ -77,6 +82,109 @@ pub fn drop_unlocated_lines(
         line_slope(mesh, &family, line).is_none_or(|slope| slope >= LOCATED_SLOPE * noise)
     });
     before - lines.lines.len()
+}
+
+/// Cuts off the ends of the lines of `lines` where the noise moves them about, and returns
+/// how many lines it shortened. From each end of an open line, points are dropped while the
+/// mean slope of the extremality at the edge crossings within `window / 2` along the line
+/// (arc length) is below [`LOCATED_SLOPE`] times the noise's slope ([`slope_noise`]); the
+/// line is measured again ([`super::assemble::measure_line`]). Crossings on edges with a
+/// [`Curvature::one_sided`] end are not judged: the noise and the bias of the fits there are
+/// not the interior's that σ_s measures (the public noisy ridge's valleys run to its
+/// boundary, where such a test shortened them). Runs after the strength threshold: a line
+/// is kept or dropped by what it is as a whole ([`drop_unlocated_lines`]), and only its
+/// wandering ends are cut. `creases` as for [`drop_unlocated_lines`].
+pub fn trim_unlocated_ends(
+    mesh: &TriMesh,
+    curvature: &Curvature,
+    creases: Option<&[bool]>,
+    window: f64,
+    lines: &mut FeatureLines,
+) -> usize {
+    let noise =
+        [LineKind::Ridge, LineKind::Valley].map(|kind| slope_noise(mesh, curvature, creases, kind));
+    let one_sided = |v: u32| {
+        curvature
+            .one_sided
+            .get(v as usize)
+            .copied()
+            .unwrap_or(false)
+    };
+    let mut trimmed = 0;
+    for line in &mut lines.lines {
+        let n = line.points.len();
+        let index = usize::from(line.kind == LineKind::Valley);
+        let Some(noise) = noise[index] else {
+            continue;
+        };
+        if line.closed || line.locations.len() != n || n < 3 {
+            continue;
+        }
+        let family = Family::of(curvature, line.kind);
+        let slopes: Vec<Option<f64>> = line
+            .locations
+            .iter()
+            .map(|location| match *location {
+                SurfacePoint::Edge { edge, .. } => {
+                    let [a, b] = mesh.topology().edge(edge);
+                    if one_sided(a) || one_sided(b) {
+                        return None;
+                    }
+                    edge_slope(mesh, &family, family.e, a, b)
+                }
+                _ => None,
+            })
+            .collect();
+        let located = windowed_means(&line.points, &slopes, 0.5 * window)
+            .into_iter()
+            .map(|mean| mean.is_none_or(|m| m >= LOCATED_SLOPE * noise))
+            .collect::<Vec<bool>>();
+        let (Some(first), Some(last)) = (
+            located.iter().position(|&l| l),
+            located.iter().rposition(|&l| l),
+        ) else {
+            continue;
+        };
+        if (first, last) == (0, n - 1) || last <= first {
+            continue;
+        }
+        line.points = line.points[first..=last].to_vec();
+        line.locations = line.locations[first..=last].to_vec();
+        super::assemble::measure_line(mesh, &family, line);
+        trimmed += 1;
+    }
+    trimmed
+}
+
+/// Per point of the polyline `points`, the mean of the `values` given within `half` of it
+/// along the line (arc length), `None` where none is: two pointers over the arc lengths.
+fn windowed_means(points: &[Vec3], values: &[Option<f64>], half: f64) -> Vec<Option<f64>> {
+    let n = points.len();
+    let mut arc = vec![0.0; n];
+    for i in 1..n {
+        arc[i] = arc[i - 1] + (points[i] - points[i - 1]).norm();
+    }
+    let (mut lo, mut hi) = (0, 0);
+    let (mut sum, mut count) = (0.0, 0usize);
+    let mut means = Vec::with_capacity(n);
+    for i in 0..n {
+        while hi < n && arc[hi] <= arc[i] + half {
+            if let Some(v) = values[hi] {
+                sum += v;
+                count += 1;
+            }
+            hi += 1;
+        }
+        while arc[lo] < arc[i] - half {
+            if let Some(v) = values[lo] {
+                sum -= v;
+                count -= 1;
+            }
+            lo += 1;
+        }
+        means.push((count > 0).then(|| sum / count as f64));
+    }
+    means
 }
 
 /// The root mean square slope of the simulated noise of one family's extremality
@@ -171,7 +279,6 @@ pub fn edge_slope(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::Vec3;
 
     /// The plane over [0, 10]² on a 10 × 10 grid (unit spacing), with the max family's
     /// direction along x, the min family's along y, and `e_max` and the simulated noise of
@@ -241,6 +348,79 @@ mod tests {
         curvature.one_sided = mesh.positions().iter().map(|p| p.x == 5.0).collect();
         let one_sided = slope_noise(&mesh, &curvature, None, LineKind::Ridge).unwrap();
         assert!((one_sided - 1.0).abs() < 1e-12, "{one_sided}");
+    }
+
+    #[test]
+    fn windowed_means_average_the_values_within_reach_along_the_line() {
+        let points: Vec<Vec3> = (0..6).map(|i| Vec3::new(i as f64, 0.0, 0.0)).collect();
+        let values = [Some(1.0), None, Some(3.0), Some(5.0), None, None];
+        let means = windowed_means(&points, &values, 1.0);
+        assert_eq!(
+            means,
+            vec![Some(1.0), Some(2.0), Some(4.0), Some(4.0), Some(5.0), None]
+        );
+    }
+
+    #[test]
+    fn wandering_ends_are_cut_off_and_the_located_middle_kept() {
+        // A ridge along the column x = 5.5 of the plane whose extremality crosses steeply
+        // (slope 2.5, noise 1) for y from 3 to 7 and gently (0.5) elsewhere: with a window of
+        // 1, the three rows at each end are cut.
+        let noise = |x: f64| if (x as i64) % 2 == 0 { 0.5 } else { -0.5 };
+        let (mesh, mut curvature) = plane(|_| 0.0, noise);
+        for (v, p) in mesh.positions().iter().enumerate() {
+            let slope = if (3.0..=7.0).contains(&p.y) { 2.5 } else { 0.5 };
+            curvature.e_max[v] = slope * (5.5 - p.x);
+        }
+        let mut line = ridge_at_5_5(&mesh);
+        let family = Family::of(&curvature, LineKind::Ridge);
+        // Ordered along the line (by y), with its points where they are.
+        let mut order: Vec<(f64, SurfacePoint)> = line
+            .locations
+            .iter()
+            .map(|&location| match location {
+                SurfacePoint::Edge { edge, .. } => {
+                    let [a, _] = mesh.topology().edge(edge);
+                    (mesh.position(a).y, location)
+                }
+                _ => unreachable!(),
+            })
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        line.locations = order.iter().map(|&(_, l)| l).collect();
+        line.points = order.iter().map(|&(y, _)| Vec3::new(5.5, y, 0.0)).collect();
+        super::super::assemble::measure_line(&mesh, &family, &mut line);
+        let mut lines = FeatureLines {
+            lines: vec![line.clone()],
+        };
+        let trimmed = trim_unlocated_ends(&mesh, &curvature, None, 1.0, &mut lines);
+        assert_eq!(trimmed, 1);
+        let ys: Vec<f64> = lines.lines[0].points.iter().map(|p| p.y).collect();
+        assert_eq!(ys, vec![3.0, 4.0, 5.0, 6.0, 7.0]);
+        assert!((lines.lines[0].length - 4.0).abs() < 1e-12);
+        // A closed line, or one without simulated noise, is left as it is.
+        let mut closed = FeatureLines {
+            lines: vec![FeatureLine {
+                closed: true,
+                ..line.clone()
+            }],
+        };
+        assert_eq!(
+            trim_unlocated_ends(&mesh, &curvature, None, 1.0, &mut closed),
+            0
+        );
+        // Nor are ends whose crossings are all one-sided judged.
+        curvature.one_sided = mesh
+            .positions()
+            .iter()
+            .map(|p| !(3.0..=7.0).contains(&p.y))
+            .collect();
+        let mut lines = FeatureLines { lines: vec![line] };
+        assert_eq!(
+            trim_unlocated_ends(&mesh, &curvature, None, 1.0, &mut lines),
+            0
+        );
+        assert_eq!(lines.lines[0].points.len(), 11);
     }
 
     #[test]

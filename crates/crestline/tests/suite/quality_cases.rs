@@ -185,13 +185,14 @@ fn noisy_bumpy_sphere_and_ridge() {
     // `smoothing::extremality`) 0.466, here 0.468; moved back across by the jet fit's known
     // bias (`lines::debias`, `ExtractOptions::debias_lines`) HPW 0.710, YBS 0.739, here
     // (recall over every exact line, not only the strong ones) HPW 0.631, YBS 0.625; without
-    // the lines the noise moves about (`lines::located`) HPW 0.760, YBS 0.797, here 0.649 and
-    // 0.629 (the lines dropped ran near weak crests, which this recall counts). The
+    // the lines the noise moves about and their wandering ends (`lines::located`) HPW 0.788,
+    // YBS 0.811, here 0.662 and 0.636 (the lines dropped ran near weak crests, which this
+    // recall counts). The
     // ridge is an open height field: the vertices within the fit radius of its boundary have
     // one-sided discs and are left out of the debias's profile fits; with them its valleys
     // were moved away from the exact ones (score.py 0.966 → 0.952, here 0.856; now 0.969,
     // here 0.872).
-    for (case, min_f1) in [("bumpy/noisy20k", 0.62), ("ridge/noisy20k", 0.86)] {
+    for (case, min_f1) in [("bumpy/noisy20k", 0.63), ("ridge/noisy20k", 0.86)] {
         for method in [Method::Hpw, Method::Ybs] {
             check_f1(method, case, min_f1);
         }
@@ -224,8 +225,9 @@ fn noisy_bumps_without_debias() {
 #[test]
 fn noisy_bumps_without_the_lines_the_noise_moves_about() {
     // The noise of the public bumps is white: the lines along weak crests whose extremality
-    // crosses zero less than twice as steeply as its noise wander off them and are dropped
-    // (`lines::located`). Measured: precision 0.669 → 0.762 (HPW), 0.722 → 0.840 (YBS).
+    // crosses zero less than twice as steeply as its noise wander off them and are dropped,
+    // and so are such ends of the lines kept (`lines::located`). Measured: precision
+    // 0.669 → 0.821 (HPW), 0.722 → 0.872 (YBS).
     let mesh = load("bumpy/noisy20k");
     assert!(
         white_noise_found(&mesh),
@@ -239,15 +241,17 @@ fn noisy_bumps_without_the_lines_the_noise_moves_about() {
             };
             let result = extract(&mesh, &options).unwrap();
             let (p, _, f1) = score(&mesh, &result.lines, "bumpy");
-            (p, f1, result.stats.lines_unlocated)
+            let stats = &result.stats;
+            (p, f1, stats.lines_unlocated, stats.lines_trimmed)
         };
-        let ((p, f1, dropped), (p_all, f1_all, none)) = (run(true), run(false));
+        let ((p, f1, dropped, trimmed), (p_all, f1_all, none, untrimmed)) = (run(true), run(false));
+        assert!(trimmed > 0 && untrimmed == 0, "{trimmed} / {untrimmed}");
         eprintln!(
             "{method:?}: {dropped} lines dropped, P {p_all:.3} -> {p:.3}, F1 {f1_all:.3} -> {f1:.3}"
         );
         assert!(dropped > 0 && none == 0, "{dropped} / {none}");
         assert!(
-            p - p_all >= 0.05,
+            p - p_all >= 0.1,
             "{method:?}: precision {p_all:.3} -> {p:.3}"
         );
         assert!(f1 >= f1_all, "{method:?}: F1 {f1_all:.3} -> {f1:.3}");
