@@ -19,8 +19,8 @@
 //! Before the threshold of step 6 ([`ExtractOptions::drop_unlocated_lines`], on by default),
 //! on surfaces whose noise the jet fit finds white, the HPW and YBS lines whose extremality
 //! crosses zero less than twice as steeply as its estimation noise are dropped: the noise
-//! moves them about, off the weak crests they follow ([`crate::lines::located`]); after
-//! it, the ends of the lines kept are cut where they do so.
+//! moves them about, off the weak crests they follow ([`crate::lines::located`]), and the
+//! ends of the others are cut where they do so.
 //!
 //! **Creases** (every method, [`ExtractOptions::creases`]): before step 1 the sharp creases of
 //! the mesh are found ([`crate::lines::crease`]; none on meshes whose dihedral angles have no
@@ -355,12 +355,12 @@ pub fn extract_with_progress(
     if locate {
         stats.lines_unlocated = drop_unlocated_lines(surface, &curvature, split, &mut traced);
     }
-    let filter = line_filter(&traced, options, diagonal, &mut stats);
-    let mut lines = filter_lines(traced, &filter, diagonal);
     if let (true, Some(report)) = (locate, curvature.jet_fit) {
         let window = report.radius * report.spacing;
-        stats.lines_trimmed = trim_unlocated_ends(surface, &curvature, split, window, &mut lines);
+        stats.lines_trimmed = trim_unlocated_ends(surface, &curvature, split, window, &mut traced);
     }
+    let filter = line_filter(&traced, options, diagonal, &mut stats);
+    let mut lines = filter_lines(traced, &filter, diagonal);
     clock.end(Stage::Filtering, t);
 
     let fit_is_wide = noise_measured && curvature.extremality_noise > 0.0;

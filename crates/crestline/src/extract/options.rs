@@ -281,17 +281,17 @@ pub struct ExtractOptions {
     /// [`crate::lines::debias`]). False keeps the traced lines where the fit put them.
     pub debias_lines: bool,
     /// Before the strength threshold, drop the HPW and YBS lines whose extremality crosses
-    /// zero less than twice as steeply as its estimation noise, and after it cut such ends
-    /// off the lines kept ([`crate::lines::located`]): lines the noise moves about, off the
-    /// weak crests they follow. Runs only when the jet fit finds the surface's noise white
+    /// zero less than twice as steeply as its estimation noise, and cut such ends off the
+    /// others ([`crate::lines::located`]): lines the noise moves about, off the weak crests
+    /// they follow. Runs only when the jet fit finds the surface's noise white
     /// ([`crate::curvature::JetFitReport::white_noise`]; of the shared scans and models only
     /// the teapot, whose lines stay). Measured on the public `bumpy/noisy20k`: HPW F1
-    /// 0.710 → 0.788, YBS 0.739 → 0.811; the other public and CAD cases unchanged.
+    /// 0.710 → 0.806, YBS 0.739 → 0.811; the other public and CAD cases unchanged.
     ///
     /// Default: true. On 46 further noisy surfaces made like the public ones the ten bumpy
-    /// spheres gain up to 0.13 (YBS: one loses 0.012), the made-alike noisy torus's spurious
-    /// rim shortens, one noisy ridge loses 0.021 (YBS), the others are unchanged. False
-    /// keeps every traced line, whole, for the strength threshold.
+    /// spheres gain up to 0.12, the made-alike noisy torus's spurious rim shortens, one noisy
+    /// ridge loses 0.021 (YBS), the others are unchanged. False keeps every traced line,
+    /// whole, for the strength threshold.
     pub drop_unlocated_lines: bool,
     /// Step 7: spatial fairing; its tolerance is a fraction of the model size.
     /// Default: off.

@@ -34,9 +34,9 @@
 //! crest, along which e hardly changes, is read at its slope. The bound 2 is in this measure,
 //! about 2.6 in slopes along the direction.
 //!
-//! A line kept whole can still wander at its ends, where the crest it follows weakens:
-//! after the strength threshold its ends are cut while the mean slope of the crossings
-//! within half a fit radius along it is below the same bound ([`trim_unlocated_ends`]).
+//! A line kept can still wander at its ends, where the crest it follows weakens: its ends
+//! are cut while the mean slope of the crossings within half a fit radius along it is below
+//! the same bound ([`trim_unlocated_ends`]), before the strength threshold measures it.
 //!
 //! The simulated noise describes the estimation noise only when the surface's noise is
 //! white: on scans and coarse models, whose fit residual is mostly the surface the
@@ -88,12 +88,11 @@ pub fn drop_unlocated_lines(
 /// how many lines it shortened. From each end of an open line, points are dropped while the
 /// mean slope of the extremality at the edge crossings within `window / 2` along the line
 /// (arc length) is below [`LOCATED_SLOPE`] times the noise's slope ([`slope_noise`]); the
-/// line is measured again ([`super::assemble::measure_line`]). Crossings on edges with a
-/// [`Curvature::one_sided`] end are not judged: the noise and the bias of the fits there are
-/// not the interior's that σ_s measures (the public noisy ridge's valleys run to its
-/// boundary, where such a test shortened them). Runs after the strength threshold: a line
-/// is kept or dropped by what it is as a whole ([`drop_unlocated_lines`]), and only its
-/// wandering ends are cut. `creases` as for [`drop_unlocated_lines`].
+/// line is measured again ([`super::assemble::measure_line`]) for the strength threshold.
+/// Crossings on edges with a [`Curvature::one_sided`] end are not judged: the noise and the
+/// bias of the fits there are not the interior's that σ_s measures (noisy ridges made like
+/// the public one, whose valleys run to the boundary, lost them when they were). `creases`
+/// as for [`drop_unlocated_lines`].
 pub fn trim_unlocated_ends(
     mesh: &TriMesh,
     curvature: &Curvature,

@@ -185,14 +185,14 @@ fn noisy_bumpy_sphere_and_ridge() {
     // `smoothing::extremality`) 0.466, here 0.468; moved back across by the jet fit's known
     // bias (`lines::debias`, `ExtractOptions::debias_lines`) HPW 0.710, YBS 0.739, here
     // (recall over every exact line, not only the strong ones) HPW 0.631, YBS 0.625; without
-    // the lines the noise moves about and their wandering ends (`lines::located`) HPW 0.788,
-    // YBS 0.811, here 0.662 and 0.636 (the lines dropped ran near weak crests, which this
-    // recall counts). The
+    // the lines the noise moves about and their wandering ends (`lines::located`) HPW 0.806,
+    // YBS 0.811, here 0.632 and 0.636 (the lines dropped and the ends cut ran near weak
+    // crests, which this recall counts: precision 0.669 → 0.859, recall 0.597 → 0.500). The
     // ridge is an open height field: the vertices within the fit radius of its boundary have
     // one-sided discs and are left out of the debias's profile fits; with them its valleys
     // were moved away from the exact ones (score.py 0.966 → 0.952, here 0.856; now 0.969,
     // here 0.872).
-    for (case, min_f1) in [("bumpy/noisy20k", 0.63), ("ridge/noisy20k", 0.86)] {
+    for (case, min_f1) in [("bumpy/noisy20k", 0.62), ("ridge/noisy20k", 0.86)] {
         for method in [Method::Hpw, Method::Ybs] {
             check_f1(method, case, min_f1);
         }
@@ -202,11 +202,14 @@ fn noisy_bumpy_sphere_and_ridge() {
 #[test]
 fn noisy_bumps_without_debias() {
     // `debias_lines: false` leaves the lines where the widened fit put them, about a spacing
-    // off the bumps' crests: here 0.468 against the default's 0.631.
+    // off the bumps' crests: here 0.468 against 0.631 with it. Both without the step that
+    // drops the lines the noise moves about (`lines::located`, which came later; with it the
+    // uncorrected path measures 0.446, the default 0.632), so that this measures the debias.
     let mesh = load("bumpy/noisy20k");
     let f1 = |debias_lines| {
         let options = ExtractOptions {
             debias_lines,
+            drop_unlocated_lines: false,
             ..ExtractOptions::for_method(Method::Hpw)
         };
         let result = extract(&mesh, &options).unwrap();
@@ -226,8 +229,8 @@ fn noisy_bumps_without_debias() {
 fn noisy_bumps_without_the_lines_the_noise_moves_about() {
     // The noise of the public bumps is white: the lines along weak crests whose extremality
     // crosses zero less than twice as steeply as its noise wander off them and are dropped,
-    // and so are such ends of the lines kept (`lines::located`). Measured: precision
-    // 0.669 → 0.821 (HPW), 0.722 → 0.872 (YBS).
+    // and such ends of the others are cut (`lines::located`). Measured: precision
+    // 0.669 → 0.859 (HPW), 0.722 → 0.872 (YBS).
     let mesh = load("bumpy/noisy20k");
     assert!(
         white_noise_found(&mesh),
