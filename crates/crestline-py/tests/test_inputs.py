@@ -468,8 +468,10 @@ def test_extract_drops_the_lines_the_noise_moves_about_unless_told_to_keep_them(
     assert default.stats["jet_fit"]["white_noise"]
     assert default.stats["jet_fit"]["noise_growth"] == pytest.approx(1.0, abs=0.1)
     assert default.stats["lines_unlocated"] > 0
+    assert default.stats["lines_trimmed"] > 0
     kept = crestline.extract(vertices, faces, keep_unlocated=True)
     assert kept.stats["lines_unlocated"] == 0
+    assert kept.stats["lines_trimmed"] == 0
     assert len(kept) > len(default)
 
 

@@ -838,7 +838,7 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
     }
     if s.lines_trimmed > 0 {
         out += &format!(
-            "lines trimmed          {} (ends the noise moves about cut off)\n",
+            "lines trimmed          {} (ends the noise moves about cut off, before the threshold)\n",
             s.lines_trimmed
         );
     }

@@ -191,8 +191,9 @@ pub struct ExtractStats {
     /// Lines dropped before the strength threshold because the noise moves them about
     /// ([`crate::lines::located`]; 0 when that step did not run).
     pub lines_unlocated: usize,
-    /// Lines kept whose ends the noise moves about were cut off
-    /// ([`crate::lines::located::trim_unlocated_ends`]; 0 when that step did not run).
+    /// Lines whose ends the noise moves about were cut off before the strength threshold
+    /// ([`crate::lines::located::trim_unlocated_ends`]; some may then be dropped by it; 0
+    /// when that step did not run).
     pub lines_trimmed: usize,
     /// Lines kept.
     pub lines: usize,

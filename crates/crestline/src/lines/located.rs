@@ -89,6 +89,8 @@ pub fn drop_unlocated_lines(
 /// mean slope of the extremality at the edge crossings within `window / 2` along the line
 /// (arc length) is below [`LOCATED_SLOPE`] times the noise's slope ([`slope_noise`]); the
 /// line is measured again ([`super::assemble::measure_line`]) for the strength threshold.
+/// A line with no located point, or only one, is left whole (the whole-line test,
+/// [`drop_unlocated_lines`], has judged it).
 /// Crossings on edges with a [`Curvature::one_sided`] end are not judged: the noise and the
 /// bias of the fits there are not the interior's that σ_s measures (noisy ridges made like
 /// the public one, whose valleys run to the boundary, lost them when they were). `creases`
@@ -158,6 +160,7 @@ pub fn trim_unlocated_ends(
 /// Per point of the polyline `points`, the mean of the `values` given within `half` of it
 /// along the line (arc length), `None` where none is: two pointers over the arc lengths.
 fn windowed_means(points: &[Vec3], values: &[Option<f64>], half: f64) -> Vec<Option<f64>> {
+    let half = half.max(0.0);
     let n = points.len();
     let mut arc = vec![0.0; n];
     for i in 1..n {
@@ -178,6 +181,9 @@ fn windowed_means(points: &[Vec3], values: &[Option<f64>], half: f64) -> Vec<Opt
             if let Some(v) = values[lo] {
                 sum -= v;
                 count -= 1;
+                if count == 0 {
+                    sum = 0.0;
+                }
             }
             lo += 1;
         }
@@ -362,14 +368,15 @@ mod tests {
 
     #[test]
     fn wandering_ends_are_cut_off_and_the_located_middle_kept() {
-        // A ridge along the column x = 5.5 of the plane whose extremality crosses steeply
-        // (slope 2.5, noise 1) for y from 3 to 7 and gently (0.5) elsewhere: with a window of
-        // 1, the three rows at each end are cut.
+        // A ridge along the column x = 5.5 of the plane (noise slope 1, so a bound of 2),
+        // whose extremality crosses with these slopes on the rows y = 0 to 10. Over a window
+        // of 2 (the crossings within 1 along the line) the means are below 2 up to y = 2 and
+        // from y = 9: those rows are cut. Judged one by one, y = 2 (slope 3) would stay.
+        let slopes = [0.5, 0.5, 3.0, 0.5, 4.0, 4.0, 4.0, 4.0, 4.0, 0.5, 0.5];
         let noise = |x: f64| if (x as i64) % 2 == 0 { 0.5 } else { -0.5 };
         let (mesh, mut curvature) = plane(|_| 0.0, noise);
         for (v, p) in mesh.positions().iter().enumerate() {
-            let slope = if (3.0..=7.0).contains(&p.y) { 2.5 } else { 0.5 };
-            curvature.e_max[v] = slope * (5.5 - p.x);
+            curvature.e_max[v] = slopes[p.y as usize] * (5.5 - p.x);
         }
         let mut line = ridge_at_5_5(&mesh);
         let family = Family::of(&curvature, LineKind::Ridge);
@@ -392,11 +399,25 @@ mod tests {
         let mut lines = FeatureLines {
             lines: vec![line.clone()],
         };
-        let trimmed = trim_unlocated_ends(&mesh, &curvature, None, 1.0, &mut lines);
+        let trimmed = trim_unlocated_ends(&mesh, &curvature, None, 2.0, &mut lines);
         assert_eq!(trimmed, 1);
-        let ys: Vec<f64> = lines.lines[0].points.iter().map(|p| p.y).collect();
-        assert_eq!(ys, vec![3.0, 4.0, 5.0, 6.0, 7.0]);
-        assert!((lines.lines[0].length - 4.0).abs() < 1e-12);
+        let cut = &lines.lines[0];
+        let ys: Vec<f64> = cut.points.iter().map(|p| p.y).collect();
+        assert_eq!(ys, vec![3.0, 4.0, 5.0, 6.0, 7.0, 8.0]);
+        assert_eq!(cut.locations, line.locations[3..=8].to_vec());
+        // Measured again: as the same piece measured from scratch.
+        let mut piece = FeatureLine {
+            points: line.points[3..=8].to_vec(),
+            locations: line.locations[3..=8].to_vec(),
+            ..line.clone()
+        };
+        super::super::assemble::measure_line(&mesh, &family, &mut piece);
+        assert!((cut.length - 5.0).abs() < 1e-12, "{}", cut.length);
+        assert_eq!(
+            (cut.strength, cut.curvature_integral),
+            (piece.strength, piece.curvature_integral)
+        );
+        assert!(cut.strength < line.strength);
         // A closed line, or one without simulated noise, is left as it is.
         let mut closed = FeatureLines {
             lines: vec![FeatureLine {
@@ -405,18 +426,26 @@ mod tests {
             }],
         };
         assert_eq!(
-            trim_unlocated_ends(&mesh, &curvature, None, 1.0, &mut closed),
+            trim_unlocated_ends(&mesh, &curvature, None, 2.0, &mut closed),
             0
         );
+        let clean = Curvature {
+            simulated_noise: Default::default(),
+            ..curvature.clone()
+        };
+        let mut lines = FeatureLines {
+            lines: vec![line.clone()],
+        };
+        assert_eq!(trim_unlocated_ends(&mesh, &clean, None, 2.0, &mut lines), 0);
         // Nor are ends whose crossings are all one-sided judged.
         curvature.one_sided = mesh
             .positions()
             .iter()
-            .map(|p| !(3.0..=7.0).contains(&p.y))
+            .map(|p| !(3.0..=8.0).contains(&p.y))
             .collect();
         let mut lines = FeatureLines { lines: vec![line] };
         assert_eq!(
-            trim_unlocated_ends(&mesh, &curvature, None, 1.0, &mut lines),
+            trim_unlocated_ends(&mesh, &curvature, None, 2.0, &mut lines),
             0
         );
         assert_eq!(lines.lines[0].points.len(), 11);
