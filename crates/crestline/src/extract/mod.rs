@@ -119,7 +119,7 @@ use crate::lines::debias::{DebiasReport, debias_crest_lines};
 use crate::lines::fair::fair_lines;
 use crate::lines::filter::{LineFilter, StrengthMeasure, choose_line_threshold, filter_lines};
 use crate::lines::link::link_feature_points;
-use crate::lines::located::{drop_unlocated_lines, trim_unlocated_ends};
+use crate::lines::located::{drop_unlocated_lines, slope_noises, trim_unlocated_ends};
 use crate::lines::merge::merge_creases;
 use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
@@ -353,12 +353,11 @@ pub fn extract_with_progress(
     let white_noise = curvature.jet_fit.is_some_and(|r| r.white_noise());
     let crest_pipeline = !matches!(options.pipeline, Pipeline::Saliency(_));
     let locate = options.drop_unlocated_lines && white_noise && crest_pipeline;
-    if locate {
-        stats.lines_unlocated = drop_unlocated_lines(surface, &curvature, split, &mut traced);
-    }
     if let (true, Some(report)) = (locate, curvature.jet_fit) {
+        let noise = slope_noises(surface, &curvature, split);
+        stats.lines_unlocated = drop_unlocated_lines(surface, &curvature, noise, &mut traced);
         let window = report.radius * report.spacing;
-        stats.lines_trimmed = trim_unlocated_ends(surface, &curvature, split, window, &mut traced);
+        stats.lines_trimmed = trim_unlocated_ends(surface, &curvature, noise, window, &mut traced);
     }
     let filter = line_filter(&traced, options, diagonal, &mut stats);
     let mut lines = filter_lines(traced, &filter, diagonal);

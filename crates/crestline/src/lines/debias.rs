@@ -86,7 +86,7 @@ use nalgebra::{Matrix6, Vector6};
 use rayon::prelude::*;
 
 use super::assemble::integrate;
-use super::{FeatureLine, FeatureLines, LineKind, SurfacePoint};
+use super::{FeatureLine, FeatureLines, LineKind, SurfacePoint, arc_lengths};
 use crate::curvature::Curvature;
 use crate::curvature::jet_fit::one_sided_vertices;
 use crate::mesh::{TriMesh, Vec3};
@@ -391,22 +391,6 @@ impl Pooled {
             noise_slope: self.noise_slope / w,
         }
     }
-}
-
-/// Arc length at each point, and the total (with the closing segment when `closed`) last.
-fn arc_lengths(points: &[Vec3], closed: bool) -> Vec<f64> {
-    let mut arc = Vec::with_capacity(points.len() + 1);
-    arc.push(0.0);
-    for w in points.windows(2) {
-        arc.push(arc[arc.len() - 1] + (w[1] - w[0]).norm());
-    }
-    let closing = if closed {
-        (points[0] - points[points.len() - 1]).norm()
-    } else {
-        0.0
-    };
-    arc.push(arc[arc.len() - 1] + closing);
-    arc
 }
 
 /// The line's direction at point `k`: the chord between the points `reach` before and after

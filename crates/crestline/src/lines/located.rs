@@ -49,7 +49,7 @@
 use rayon::prelude::*;
 
 use super::trace::Family;
-use super::{FeatureLine, FeatureLines, LineKind, SurfacePoint};
+use super::{FeatureLine, FeatureLines, LineKind, SurfacePoint, arc_lengths};
 use crate::curvature::{Curvature, MIN_NOISE_SAMPLES};
 use crate::mesh::{TriMesh, Vec3};
 
@@ -58,20 +58,29 @@ use crate::mesh::{TriMesh, Vec3};
 /// averages 1.25 (see the module docs).
 pub const LOCATED_SLOPE: f64 = 2.0;
 
-/// Drops the lines of `lines` whose extremality does not cross zero at least
-/// [`LOCATED_SLOPE`] times as steeply as its simulated estimation noise, and returns how many
-/// it dropped. Lines without edge crossings along their principal direction are kept, and
-/// so is everything when `curvature` has no simulated noise. `creases` flags the crease
+/// The noise's slope σ_s of the ridge and the valley family ([`slope_noise`]), as
+/// [`drop_unlocated_lines`] and [`trim_unlocated_ends`] read it. `creases` flags the crease
 /// edges (per edge of [`crate::mesh::Topology::edges`]) the extremalities were smoothed
-/// apart at, if any ([`slope_noise`]).
-pub fn drop_unlocated_lines(
+/// apart at, if any.
+pub fn slope_noises(
     mesh: &TriMesh,
     curvature: &Curvature,
     creases: Option<&[bool]>,
+) -> [Option<f64>; 2] {
+    [LineKind::Ridge, LineKind::Valley].map(|kind| slope_noise(mesh, curvature, creases, kind))
+}
+
+/// Drops the lines of `lines` whose extremality does not cross zero at least
+/// [`LOCATED_SLOPE`] times as steeply as its simulated estimation noise (`noise`, the
+/// ridges' and the valleys' [`slope_noises`]), and returns how many it dropped. Lines
+/// without edge crossings along their principal direction are kept, and so is every line
+/// of a family without simulated noise.
+pub fn drop_unlocated_lines(
+    mesh: &TriMesh,
+    curvature: &Curvature,
+    noise: [Option<f64>; 2],
     lines: &mut FeatureLines,
 ) -> usize {
-    let noise =
-        [LineKind::Ridge, LineKind::Valley].map(|kind| slope_noise(mesh, curvature, creases, kind));
     let before = lines.lines.len();
     lines.lines.retain(|line| {
         let index = usize::from(line.kind == LineKind::Valley);
@@ -89,21 +98,19 @@ pub fn drop_unlocated_lines(
 /// mean slope of the extremality at the edge crossings within `window / 2` along the line
 /// (arc length) is below [`LOCATED_SLOPE`] times the noise's slope ([`slope_noise`]); the
 /// line is measured again ([`super::assemble::measure_line`]) for the strength threshold.
+/// `noise` as for [`drop_unlocated_lines`].
 /// A line with no located point, or only one, is left whole (the whole-line test,
 /// [`drop_unlocated_lines`], has judged it).
 /// Crossings on edges with a [`Curvature::one_sided`] end are not judged: the noise and the
 /// bias of the fits there are not the interior's that σ_s measures (noisy ridges made like
-/// the public one, whose valleys run to the boundary, lost them when they were). `creases`
-/// as for [`drop_unlocated_lines`].
+/// the public one, whose valleys run to the boundary, lost them when they were).
 pub fn trim_unlocated_ends(
     mesh: &TriMesh,
     curvature: &Curvature,
-    creases: Option<&[bool]>,
+    noise: [Option<f64>; 2],
     window: f64,
     lines: &mut FeatureLines,
 ) -> usize {
-    let noise =
-        [LineKind::Ridge, LineKind::Valley].map(|kind| slope_noise(mesh, curvature, creases, kind));
     let one_sided = |v: u32| {
         curvature
             .one_sided
@@ -125,16 +132,7 @@ pub fn trim_unlocated_ends(
         let slopes: Vec<Option<f64>> = line
             .locations
             .iter()
-            .map(|location| match *location {
-                SurfacePoint::Edge { edge, .. } => {
-                    let [a, b] = mesh.topology().edge(edge);
-                    if one_sided(a) || one_sided(b) {
-                        return None;
-                    }
-                    edge_slope(mesh, &family, family.e, a, b)
-                }
-                _ => None,
-            })
+            .map(|&location| crossing_slope(mesh, &family, location, one_sided))
             .collect();
         let located = windowed_means(&line.points, &slopes, 0.5 * window)
             .into_iter()
@@ -162,10 +160,10 @@ pub fn trim_unlocated_ends(
 fn windowed_means(points: &[Vec3], values: &[Option<f64>], half: f64) -> Vec<Option<f64>> {
     let half = half.max(0.0);
     let n = points.len();
-    let mut arc = vec![0.0; n];
-    for i in 1..n {
-        arc[i] = arc[i - 1] + (points[i] - points[i - 1]).norm();
+    if n == 0 {
+        return Vec::new();
     }
+    let arc = arc_lengths(points, false);
     let (mut lo, mut hi) = (0, 0);
     let (mut sum, mut count) = (0.0, 0usize);
     let mut means = Vec::with_capacity(n);
@@ -211,13 +209,7 @@ pub fn slope_noise(
     }
     let family = Family::of(curvature, kind);
     let topology = mesh.topology();
-    let mut on_crease = vec![false; curvature.len()];
-    if let Some(creases) = creases {
-        for (&[a, b], _) in topology.edges().iter().zip(creases).filter(|(_, c)| **c) {
-            on_crease[a as usize] = true;
-            on_crease[b as usize] = true;
-        }
-    }
+    let on_crease = creases.map_or_else(Vec::new, |c| topology.vertices_of_edges(c));
     let apart = |v: u32| {
         let one_sided = curvature.one_sided.get(v as usize).copied();
         one_sided.unwrap_or(false) || on_crease.get(v as usize).copied().unwrap_or(false)
@@ -245,17 +237,29 @@ pub fn line_slope(mesh: &TriMesh, family: &Family<'_>, line: &FeatureLine) -> Op
     let (sum, count) = line
         .locations
         .iter()
-        .filter_map(|location| match *location {
-            SurfacePoint::Edge { edge, .. } => {
-                let [a, b] = mesh.topology().edge(edge);
-                edge_slope(mesh, family, family.e, a, b)
-            }
-            _ => None,
-        })
+        .filter_map(|&location| crossing_slope(mesh, family, location, |_| false))
         .fold((0.0, 0usize), |(sum, count), slope| {
             (sum + slope, count + 1)
         });
     (count > 0).then(|| sum / count as f64)
+}
+
+/// The slope of the family's extremality at a line point on an edge ([`edge_slope`]);
+/// `None` for a point in a face or at a vertex, and on an edge with an end `skip` names.
+fn crossing_slope(
+    mesh: &TriMesh,
+    family: &Family<'_>,
+    location: SurfacePoint,
+    skip: impl Fn(u32) -> bool,
+) -> Option<f64> {
+    let SurfacePoint::Edge { edge, .. } = location else {
+        return None;
+    };
+    let [a, b] = mesh.topology().edge(edge);
+    if skip(a) || skip(b) {
+        return None;
+    }
+    edge_slope(mesh, family, family.e, a, b)
 }
 
 /// The change of `field` (a per-vertex value along the family's principal directions, as
@@ -399,7 +403,13 @@ mod tests {
         let mut lines = FeatureLines {
             lines: vec![line.clone()],
         };
-        let trimmed = trim_unlocated_ends(&mesh, &curvature, None, 2.0, &mut lines);
+        let trimmed = trim_unlocated_ends(
+            &mesh,
+            &curvature,
+            slope_noises(&mesh, &curvature, None),
+            2.0,
+            &mut lines,
+        );
         assert_eq!(trimmed, 1);
         let cut = &lines.lines[0];
         let ys: Vec<f64> = cut.points.iter().map(|p| p.y).collect();
@@ -426,7 +436,13 @@ mod tests {
             }],
         };
         assert_eq!(
-            trim_unlocated_ends(&mesh, &curvature, None, 2.0, &mut closed),
+            trim_unlocated_ends(
+                &mesh,
+                &curvature,
+                slope_noises(&mesh, &curvature, None),
+                2.0,
+                &mut closed
+            ),
             0
         );
         let clean = Curvature {
@@ -436,7 +452,16 @@ mod tests {
         let mut lines = FeatureLines {
             lines: vec![line.clone()],
         };
-        assert_eq!(trim_unlocated_ends(&mesh, &clean, None, 2.0, &mut lines), 0);
+        assert_eq!(
+            trim_unlocated_ends(
+                &mesh,
+                &clean,
+                slope_noises(&mesh, &clean, None),
+                2.0,
+                &mut lines
+            ),
+            0
+        );
         // Nor are ends whose crossings are all one-sided judged.
         curvature.one_sided = mesh
             .positions()
@@ -445,7 +470,13 @@ mod tests {
             .collect();
         let mut lines = FeatureLines { lines: vec![line] };
         assert_eq!(
-            trim_unlocated_ends(&mesh, &curvature, None, 2.0, &mut lines),
+            trim_unlocated_ends(
+                &mesh,
+                &curvature,
+                slope_noises(&mesh, &curvature, None),
+                2.0,
+                &mut lines
+            ),
             0
         );
         assert_eq!(lines.lines[0].points.len(), 11);
@@ -483,7 +514,12 @@ mod tests {
             let measured = line_slope(&mesh, &family, &line).unwrap();
             assert!((measured - slope).abs() < 1e-12, "{measured}");
             let mut lines = FeatureLines { lines: vec![line] };
-            let dropped = drop_unlocated_lines(&mesh, &curvature, None, &mut lines);
+            let dropped = drop_unlocated_lines(
+                &mesh,
+                &curvature,
+                slope_noises(&mesh, &curvature, None),
+                &mut lines,
+            );
             assert_eq!(
                 (dropped, lines.lines.len()),
                 (usize::from(!kept), usize::from(kept))
@@ -509,6 +545,14 @@ mod tests {
         let mut lines = FeatureLines {
             lines: vec![ridge_at_5_5(&mesh)],
         };
-        assert_eq!(drop_unlocated_lines(&mesh, &curvature, None, &mut lines), 0);
+        assert_eq!(
+            drop_unlocated_lines(
+                &mesh,
+                &curvature,
+                slope_noises(&mesh, &curvature, None),
+                &mut lines
+            ),
+            0
+        );
     }
 }

@@ -263,3 +263,19 @@ pub fn jump_crest_gaps(
     lines.lines = out;
     joins
 }
+
+/// Arc length at each point, and the total (with the closing segment when `closed`) last.
+pub(crate) fn arc_lengths(points: &[Vec3], closed: bool) -> Vec<f64> {
+    let mut arc = Vec::with_capacity(points.len() + 1);
+    arc.push(0.0);
+    for w in points.windows(2) {
+        arc.push(arc[arc.len() - 1] + (w[1] - w[0]).norm());
+    }
+    let closing = if closed {
+        (points[0] - points[points.len() - 1]).norm()
+    } else {
+        0.0
+    };
+    arc.push(arc[arc.len() - 1] + closing);
+    arc
+}

@@ -371,14 +371,7 @@ impl<'m> ExtremalitySmoother<'m> {
                     flags.len()
                 )));
             }
-            Some(flags) => {
-                let mut on = vec![false; n];
-                for (&[a, b], _) in edges.iter().zip(flags).filter(|(_, c)| **c) {
-                    on[a as usize] = true;
-                    on[b as usize] = true;
-                }
-                Some(on)
-            }
+            Some(flags) => Some(mesh.topology().vertices_of_edges(flags)),
             None => None,
         };
         let (mut weights, mass) = cotan_weights_and_mass(mesh, mesh.positions());

@@ -177,6 +177,18 @@ impl Topology {
         &self.edges
     }
 
+    /// Per vertex, whether it is an end of an edge flagged in `flags` (one per edge of
+    /// [`Topology::edges`]; missing flags count as false): the vertices of a set of edges,
+    /// such as the creases.
+    pub fn vertices_of_edges(&self, flags: &[bool]) -> Vec<bool> {
+        let mut on = vec![false; self.num_vertices()];
+        for (&[a, b], _) in self.edges.iter().zip(flags).filter(|(_, f)| **f) {
+            on[a as usize] = true;
+            on[b as usize] = true;
+        }
+        on
+    }
+
     /// Faces incident to edge `e`.
     #[inline]
     pub fn edge_faces(&self, e: u32) -> &[u32] {
