@@ -89,6 +89,8 @@ def test_methods_and_thresholds(fandisk):
     assert all(t >= 10.0 for t in crest)
     assert len(ybs) > 0
     assert crestline.extract(*fandisk, threshold="auto").stats["threshold_auto"] in (True, False)
+    # Only the saliency method splits a curve without a knee.
+    assert crestline.extract(*fandisk, threshold="auto").stats["threshold_split"] is False
 
 
 def test_curvature_of_the_ovoid_is_close_to_exact():

@@ -350,12 +350,17 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
             significant(s.crease_length)
         );
     }
-    if s.threshold_is_auto {
+    if s.threshold_is_split {
+        eprintln!(
+            "automatic threshold: {:.6} (the saliency rises without a knee: the split of its upper half)",
+            s.threshold
+        );
+    } else if s.threshold_is_auto {
         eprintln!("automatic threshold: {:.6}", s.threshold);
     } else if options.pipeline.threshold().is_auto() {
         match options.method() {
             Method::Saliency => {
-                eprintln!("automatic threshold: the saliency has no knee, no feature points")
+                eprintln!("automatic threshold: the saliency is flat, no feature points")
             }
             _ => eprintln!(
                 "automatic threshold: the line strengths have no knee, kept T >= {}",
@@ -855,7 +860,11 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
     out += &format!(
         "threshold              {:.6}{}\n",
         s.threshold,
-        if s.threshold_is_auto { " (auto)" } else { "" }
+        match (s.threshold_is_split, s.threshold_is_auto) {
+            (true, _) => " (auto: split, no knee)",
+            (false, true) => " (auto)",
+            _ => "",
+        }
     );
     out += &match s.crease_threshold {
         Some(t) => format!(
@@ -932,6 +941,7 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
         "scale": s.scale,
         "threshold": s.threshold,
         "threshold_auto": s.threshold_is_auto,
+        "threshold_split": s.threshold_is_split,
         "gaps_jumped": s.gaps_jumped,
         "fallback_vertices": s.fallback_vertices,
         "jet_fit": s.jet_fit.map(|j| serde_json::json!({

@@ -128,7 +128,7 @@ use crate::mesh::{Orientation, TriMesh, orientation, reverse_faces};
 use crate::saliency::mesh_saliency;
 use crate::smoothing::extremality::{smooth_extremalities, smooth_extremalities_split};
 use crate::smoothing::surface::smooth_surface;
-use crate::threshold::{ChosenThreshold, choose_threshold};
+use crate::threshold::{ChosenThreshold, NoKnee, choose_threshold};
 
 /// The named stages, for progress reports and timings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -219,11 +219,14 @@ pub struct ExtractStats {
     /// the mesh has no gap in its dihedral angles.
     pub crease_threshold: Option<f64>,
     /// The strength threshold applied (for Saliency: the saliency threshold; infinite when
-    /// the automatic search found no knee, so that no vertex is a feature point).
+    /// the saliency is flat, so that no vertex is a feature point).
     pub threshold: f64,
-    /// True when the threshold came from the knee search (false when it was not asked for,
-    /// or found no knee).
+    /// True when the threshold came from the automatic search: the knee, or the split of a
+    /// saliency that rose without one (false when it was not asked for, or found nothing).
     pub threshold_is_auto: bool,
+    /// True when the saliency had no knee and the threshold is its split
+    /// ([`crate::threshold::NoKnee::Split`]).
+    pub threshold_is_split: bool,
     /// Gaps jumped (YBS).
     pub gaps_jumped: usize,
     /// Line points moved by [`crate::lines::debias`] and their median move (all zero when it
@@ -440,8 +443,12 @@ fn trace_by_method(
         Pipeline::Ybs(_) => trace_crest_lines(surface, curvature, None).0,
         Pipeline::Saliency(mwz) => {
             let saliency = mesh_saliency(surface, curvature, &mwz.saliency)?;
-            // No knee: a flat saliency curve, a shape without salient parts; no point.
-            let chosen = choose_threshold(&saliency.saliency, &mwz.threshold, f64::INFINITY);
+            // No knee: a rising curve is split in two; a flat one is a shape without salient
+            // parts, no point.
+            let no_knee = NoKnee::Split {
+                flat: f64::INFINITY,
+            };
+            let chosen = choose_threshold(&saliency.saliency, &mwz.threshold, no_knee);
             record_threshold(chosen, stats);
             link_feature_points(
                 surface,
@@ -490,6 +497,7 @@ fn line_filter(
 fn record_threshold(chosen: ChosenThreshold, stats: &mut ExtractStats) {
     stats.threshold = chosen.value;
     stats.threshold_is_auto = chosen.from_knee;
+    stats.threshold_is_split = chosen.from_split;
 }
 
 /// Fills the statistics' counts and lengths of the final lines.

@@ -6,7 +6,7 @@
 //! there are several: [`crate::TriMesh::model_size`]) for the same reason.
 
 use super::{FeatureLine, FeatureLines};
-use crate::threshold::{ChosenThreshold, Threshold, choose_threshold};
+use crate::threshold::{ChosenThreshold, NoKnee, Threshold, choose_threshold};
 
 /// Default threshold of the HPW pipeline on T (dimensionless). Measured: spurious lines on a
 /// torus have T ≈ 0.01, the ellipsoid's crest line T ≈ 40, fandisk's creases T ≈ 2 to 13.
@@ -89,5 +89,5 @@ pub fn choose_line_threshold(
                 .collect()
         }
     };
-    choose_threshold(&strengths, threshold, threshold.floor())
+    choose_threshold(&strengths, threshold, NoKnee::Value(threshold.floor()))
 }
