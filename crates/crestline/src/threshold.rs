@@ -32,12 +32,12 @@
 //! shape whose features are broad and rounded has neither: its sorted saliency rises as one
 //! ramp (a superquadric whose edges are rounded over a fifth of its vertices: from the median
 //! to the top almost straight), the search finds a knee only where jitter happens to make
-//! one, and then anywhere from the 60th to the 99th percentile, or none, and the shape gets
+//! one, and then anywhere from the 53rd to the 99th percentile, or none, and the shape gets
 //! no line. Where the searched part is not flat but has no knee, [`split_threshold`] splits it
 //! in two by Otsu's rule (the split that maximises the variance between the two classes;
 //! N. Otsu, *A threshold selection method from gray-level histograms*, IEEE SMC 9, 1979),
 //! which asks for no constant. Measured (`score.py`, saliency method): on the public
-//! superquadrics the knee found lies between 0.60 and 1.29 and the split at 0.90 to 0.93,
+//! superquadrics the knee found lies between 0.60 and 1.29 and the split at 0.90 to 1.03,
 //! with the same F1; on six noisy superquadrics made alike (not in `../shared`) one had no
 //! knee (no line, F1 0) and gets 0.98 from the split, like the other five.
 
@@ -149,7 +149,8 @@ pub enum NoKnee {
     /// This value (the line pipelines keep their floor).
     Value(f64),
     /// The split of the searched part ([`split_threshold`]) when it rises; `flat` when it is
-    /// flat (the saliency method: `f64::INFINITY`, no point on a sphere or a torus).
+    /// flat or has fewer than 8 values (the saliency method: `f64::INFINITY`, no point on a
+    /// sphere or a torus).
     Split {
         /// The threshold of a flat curve.
         flat: f64,

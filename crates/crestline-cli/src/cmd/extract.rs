@@ -360,7 +360,9 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
     } else if options.pipeline.threshold().is_auto() {
         match options.method() {
             Method::Saliency => {
-                eprintln!("automatic threshold: the saliency is flat, no feature points")
+                eprintln!(
+                    "automatic threshold: the saliency is flat (or too few values), no feature points"
+                )
             }
             _ => eprintln!(
                 "automatic threshold: the line strengths have no knee, kept T >= {}",

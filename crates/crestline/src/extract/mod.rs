@@ -100,8 +100,10 @@
 //! stay below 1 (measured: ≤ 0.52 on `icosphere(2, 5)`, ≤ 0.45 on `torus(3, 1, 120, 40)` with
 //! YBS), while among such lines a knee is easily found (their strengths span five orders of
 //! magnitude). When the strengths have no knee (all lines alike: the 12 edges of a cube, or no
-//! line above the floor) the floor stays; the saliency method keeps no point, since a flat
-//! saliency curve means a shape without salient parts (a sphere, a torus).
+//! line above the floor) the floor stays. The saliency method splits a saliency that rises
+//! without a knee in two ([`crate::threshold::NoKnee::Split`]) and keeps no point when it is
+//! flat (or has fewer than 8 values), since a flat saliency curve means a shape without
+//! salient parts (a sphere, a torus).
 
 mod options;
 
@@ -523,8 +525,8 @@ fn count_lines(lines: &FeatureLines, stats: &mut ExtractStats) {
 impl Extraction {
     /// Checks that every number of the result is finite: the lines' points, lengths,
     /// integrals and strengths, every curvature field and the lengths in the statistics
-    /// (`stats.threshold` excepted: it is +∞ when the saliency method finds no knee and keeps
-    /// no point). A NaN or an infinity would be a bug; [`extract`] checks this in debug
+    /// (`stats.threshold` excepted: it is +∞ when the saliency is flat and the saliency method
+    /// keeps no point). A NaN or an infinity would be a bug; [`extract`] checks this in debug
     /// builds, and the tests and fuzz targets call it.
     ///
     /// # Errors

@@ -124,8 +124,9 @@ pub struct MwzOptions {
     pub saliency: SaliencyOptions,
     /// The threshold on the saliency: vertices above it are feature points. Default: the knee
     /// of all the saliency values ([`MwzOptions::automatic`], the paper's procedure); when
-    /// they have no knee no vertex is a feature point (a flat saliency curve means a shape
-    /// without salient parts: a sphere, a torus).
+    /// they rise without a knee, their split ([`crate::threshold::NoKnee::Split`]); when they
+    /// are flat (or fewer than 8) no vertex is a feature point (a flat saliency curve means a
+    /// shape without salient parts: a sphere, a torus).
     pub threshold: Threshold,
     /// Feature-point linking. Default: [`LinkOptions::default`].
     pub link: LinkOptions,
