@@ -171,12 +171,14 @@ pub fn choose_threshold(values: &[f64], threshold: &Threshold, no_knee: NoKnee) 
         Threshold::Fixed(value) => chosen(value, false, false),
         Threshold::Knee { floor, search } => {
             let candidates: Vec<f64> = values.iter().copied().filter(|&t| t >= floor).collect();
-            if let Some(knee) = seek_threshold(&candidates, &search) {
+            // Sorted once for the knee and the split.
+            let part = searched_part(&candidates, &search);
+            if let Some(knee) = part.as_ref().and_then(|p| p.knee(&search)) {
                 return chosen(floor.max(knee), true, false);
             }
             match no_knee {
                 NoKnee::Value(value) => chosen(value, false, false),
-                NoKnee::Split { flat } => match split_threshold(&candidates, &search) {
+                NoKnee::Split { flat } => match part.as_ref().and_then(Searched::split) {
                     Some(split) => chosen(floor.max(split), true, true),
                     None => chosen(flat, false, false),
                 },
@@ -185,11 +187,20 @@ pub fn choose_threshold(values: &[f64], threshold: &Threshold, no_knee: NoKnee) 
     }
 }
 
-/// The values searched by [`seek_threshold`] and [`split_threshold`]: the finite values
-/// sorted ascending (on the log scale, those `> 0`), the same on the scale searched, and the
-/// index where the search starts; `None` when there are fewer than 8 or the searched part is
-/// flat (its rise from `start` to the top below `min_rise`, see the module docs).
-fn searched_part(values: &[f64], options: &KneeSearch) -> Option<(Vec<f64>, Vec<f64>, usize)> {
+/// The values searched by [`seek_threshold`] and [`split_threshold`].
+struct Searched {
+    /// The finite values sorted ascending (on the log scale, those `> 0`).
+    sorted: Vec<f64>,
+    /// The same on the scale searched.
+    s: Vec<f64>,
+    /// The index where the search starts.
+    lo: usize,
+}
+
+/// The values of `values` as the searches read them; `None` when there are fewer than 8 or
+/// the searched part is flat (its rise from `start` to the top below `min_rise`, see the
+/// module docs).
+fn searched_part(values: &[f64], options: &KneeSearch) -> Option<Searched> {
     let mut sorted: Vec<f64> = values
         .iter()
         .copied()
@@ -215,7 +226,7 @@ fn searched_part(values: &[f64], options: &KneeSearch) -> Option<(Vec<f64>, Vec<
     if flat || rise.is_nan() || rise <= 0.0 {
         return None;
     }
-    Some((sorted, s, lo))
+    Some(Searched { sorted, s, lo })
 }
 
 /// The threshold that splits the searched part of the sorted `values` (from `start` to the
@@ -224,62 +235,76 @@ fn searched_part(values: &[f64], options: &KneeSearch) -> Option<(Vec<f64>, Vec<
 /// part is flat or has fewer than 8 values, as for [`seek_threshold`]. Values above the
 /// threshold are the salient ones.
 pub fn split_threshold(values: &[f64], options: &KneeSearch) -> Option<f64> {
-    let (sorted, s, lo) = searched_part(values, options)?;
-    let part = &s[lo..];
-    let n = part.len() as f64;
-    let total: f64 = part.iter().sum();
-    let (mut below, mut best, mut split) = (0.0, f64::NEG_INFINITY, None);
-    // The lower class is part[..i], i = 1..len: equal values stay in one class.
-    for i in 1..part.len() {
-        below += part[i - 1];
-        if part[i] == part[i - 1] {
-            continue;
-        }
-        let (n0, n1) = (i as f64, n - i as f64);
-        let gap = below / n0 - (total - below) / n1;
-        let between = n0 * n1 * gap * gap;
-        if between > best {
-            best = between;
-            split = Some(sorted[lo + i - 1]);
-        }
-    }
-    split
+    searched_part(values, options)?.split()
 }
 
 /// The threshold at the knee of the sorted `values`, or `None` when the curve has no knee.
 /// Values above the threshold are the salient ones. Non-finite values (and, on the log
 /// scale, values `<= 0`) are ignored; fewer than 8 values have no knee.
 pub fn seek_threshold(values: &[f64], options: &KneeSearch) -> Option<f64> {
-    let (sorted, s, lo) = searched_part(values, options)?;
-    let n = s.len();
-    let coarse = (n / options.coarse_steps.max(1)).max(1);
-    let hi = (n - 1)
-        .saturating_sub(options.tail_steps * coarse)
-        .max(lo + 3);
-    let steep = options.steepness * (s[hi] - s[lo]) / (hi - lo) as f64;
-    let mut step = coarse;
-    let (mut from, mut to) = (lo, n - 1);
-    let mut answer = None;
-    loop {
-        let found = (from + 2 * step..=to).step_by(step).find(|&i| {
-            let m = s[i] - s[i - step];
-            let m_prev = s[i - step] - s[i - 2 * step];
-            m > options.slope_ratio * m_prev && m >= steep * step as f64
-        });
-        match found {
-            Some(i) => {
-                answer = Some(sorted[i - step]);
-                if step == 1 {
-                    break;
-                }
-                from = i.saturating_sub(2 * step).max(lo);
-                to = i;
-                step = (step / 10).max(1);
+    searched_part(values, options)?.knee(options)
+}
+
+impl Searched {
+    /// [`split_threshold`] of these values.
+    fn split(&self) -> Option<f64> {
+        let Searched { sorted, s, lo } = self;
+        let lo = *lo;
+        let part = &s[lo..];
+        let n = part.len() as f64;
+        let total: f64 = part.iter().sum();
+        let (mut below, mut best, mut split) = (0.0, f64::NEG_INFINITY, None);
+        // The lower class is part[..i], i = 1..len: equal values stay in one class.
+        for i in 1..part.len() {
+            below += part[i - 1];
+            if part[i] == part[i - 1] {
+                continue;
             }
-            None => break,
+            let (n0, n1) = (i as f64, n - i as f64);
+            let gap = below / n0 - (total - below) / n1;
+            let between = n0 * n1 * gap * gap;
+            if between > best {
+                best = between;
+                split = Some(sorted[lo + i - 1]);
+            }
         }
+        split
     }
-    answer
+
+    /// [`seek_threshold`] of these values.
+    fn knee(&self, options: &KneeSearch) -> Option<f64> {
+        let Searched { sorted, s, lo } = self;
+        let lo = *lo;
+        let n = s.len();
+        let coarse = (n / options.coarse_steps.max(1)).max(1);
+        let hi = (n - 1)
+            .saturating_sub(options.tail_steps * coarse)
+            .max(lo + 3);
+        let steep = options.steepness * (s[hi] - s[lo]) / (hi - lo) as f64;
+        let mut step = coarse;
+        let (mut from, mut to) = (lo, n - 1);
+        let mut answer = None;
+        loop {
+            let found = (from + 2 * step..=to).step_by(step).find(|&i| {
+                let m = s[i] - s[i - step];
+                let m_prev = s[i - step] - s[i - 2 * step];
+                m > options.slope_ratio * m_prev && m >= steep * step as f64
+            });
+            match found {
+                Some(i) => {
+                    answer = Some(sorted[i - step]);
+                    if step == 1 {
+                        break;
+                    }
+                    from = i.saturating_sub(2 * step).max(lo);
+                    to = i;
+                    step = (step / 10).max(1);
+                }
+                None => break,
+            }
+        }
+        answer
+    }
 }
 
 #[cfg(test)]

@@ -440,6 +440,9 @@ impl<'a> Context<'a> {
             }
             let d = positions[v] - p;
             let (t, s) = (d.dot(&across), d.dot(&along));
+            if s.abs() > 2.0 * h {
+                continue;
+            }
             // The distance from the line in the plane across it, signed by the side: the
             // across coordinate t shrinks on faces that slope away from the tangent plane (on
             // the faces of a right-angled edge t ≤ 0.71 r, and the outer strips would stay
@@ -452,9 +455,6 @@ impl<'a> Context<'a> {
             } else {
                 continue;
             };
-            if s.abs() > 2.0 * h {
-                continue;
-            }
             let sum = &mut strips[usize::from(r > 0.0)][strip];
             sum.0 += self.mesh_normals[v].dot(&across);
             sum.1 += r;

@@ -400,16 +400,15 @@ mod tests {
         line.locations = order.iter().map(|&(_, l)| l).collect();
         line.points = order.iter().map(|&(y, _)| Vec3::new(5.5, y, 0.0)).collect();
         super::super::assemble::measure_line(&mesh, &family, &mut line);
+        // The cut over a window of 2 with the noise's slope of `curvature`.
+        let trim = |curvature: &Curvature, lines: &mut FeatureLines| {
+            let noise = slope_noises(&mesh, curvature, None);
+            trim_unlocated_ends(&mesh, curvature, noise, 2.0, lines)
+        };
         let mut lines = FeatureLines {
             lines: vec![line.clone()],
         };
-        let trimmed = trim_unlocated_ends(
-            &mesh,
-            &curvature,
-            slope_noises(&mesh, &curvature, None),
-            2.0,
-            &mut lines,
-        );
+        let trimmed = trim(&curvature, &mut lines);
         assert_eq!(trimmed, 1);
         let cut = &lines.lines[0];
         let ys: Vec<f64> = cut.points.iter().map(|p| p.y).collect();
@@ -435,16 +434,7 @@ mod tests {
                 ..line.clone()
             }],
         };
-        assert_eq!(
-            trim_unlocated_ends(
-                &mesh,
-                &curvature,
-                slope_noises(&mesh, &curvature, None),
-                2.0,
-                &mut closed
-            ),
-            0
-        );
+        assert_eq!(trim(&curvature, &mut closed), 0);
         let clean = Curvature {
             simulated_noise: Default::default(),
             ..curvature.clone()
@@ -452,16 +442,7 @@ mod tests {
         let mut lines = FeatureLines {
             lines: vec![line.clone()],
         };
-        assert_eq!(
-            trim_unlocated_ends(
-                &mesh,
-                &clean,
-                slope_noises(&mesh, &clean, None),
-                2.0,
-                &mut lines
-            ),
-            0
-        );
+        assert_eq!(trim(&clean, &mut lines), 0);
         // Nor are ends whose crossings are all one-sided judged.
         curvature.one_sided = mesh
             .positions()
@@ -469,16 +450,7 @@ mod tests {
             .map(|p| !(3.0..=8.0).contains(&p.y))
             .collect();
         let mut lines = FeatureLines { lines: vec![line] };
-        assert_eq!(
-            trim_unlocated_ends(
-                &mesh,
-                &curvature,
-                slope_noises(&mesh, &curvature, None),
-                2.0,
-                &mut lines
-            ),
-            0
-        );
+        assert_eq!(trim(&curvature, &mut lines), 0);
         assert_eq!(lines.lines[0].points.len(), 11);
     }
 
