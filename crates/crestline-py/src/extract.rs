@@ -43,7 +43,9 @@ use crestline::curvature::Estimator;
 ///   degrees (default 0.3 rad, about 17.2; 0 with `no_twicing` is HPW's plain smoothing).
 /// - `creases`: sharp creases, traced as lines of their own and not smoothed or fitted
 ///   across: "auto" (default: the edges above the gap in the histogram of dihedral angles;
-///   none when there is no gap, as on scans), "off", or a dihedral angle in degrees.
+///   on a noisy mesh without one, the gap between face normals filtered within the faces;
+///   none when there is no gap, as on scans of smooth shapes), "off", or a dihedral angle
+///   in degrees.
 /// - `fair`: spatial fairing, largest displacement as a fraction of the diagonal (off).
 /// - `no_debias`: leave the crest lines where they are traced. By default, on
 ///   meshes the jet fit finds noisy, they are moved across by the displacement its widened

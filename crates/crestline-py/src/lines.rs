@@ -227,7 +227,9 @@ impl Lines {
     /// lines traced and kept, `ridges` and `valleys` (crest lines only) and `crease_ridges`
     /// and `crease_valleys` (convex and concave creases), as the JSON lines file counts them,
     /// their total length, the sharp creases (`creases`, `crease_length`,
-    /// `crease_threshold_degrees`: `None` when none were looked for or found), the
+    /// `crease_threshold_degrees`: `None` when none were looked for or found;
+    /// `crease_normals_filtered`: true when that threshold is between filtered normals, on a
+    /// noisy mesh), the
     /// bounding-box `diagonal`, the model `scale` that relative lengths are fractions of (the
     /// diagonal of the largest connected component), threshold, seconds per stage; `jet_fit`: the sample spacing, the radius in spacings, the noise level and
     /// its standard deviation in spacings and the quartic weight the fit chose, `None` for
@@ -287,6 +289,7 @@ fn stats_dict<'py>(
     d.set_item("creases", s.creases)?;
     d.set_item("crease_length", s.crease_length)?;
     d.set_item("crease_threshold_degrees", s.crease_threshold)?;
+    d.set_item("crease_normals_filtered", s.crease_normals_filtered)?;
     d.set_item("diagonal", diagonal)?;
     d.set_item("scale", s.scale)?;
     d.set_item("threshold", s.threshold)?;

@@ -461,6 +461,27 @@ def test_extract_refuses_options_the_run_would_not_use(fandisk, options, message
         crestline.extract(*fandisk, **options)
 
 
+def test_a_noisy_part_has_its_creases_between_filtered_normals(fandisk):
+    # A machined part as a scan gives it (noise of 0.1 of the mean edge along the normals):
+    # its dihedral angles have no gap, the filtered normals' have (`lines::crease`, step 2b).
+    path = case_path("bumpy/reg5k").parents[2] / "cad" / "hex_nut-uniform.obj"
+    vertices, faces = crestline.read_mesh(path)
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    mean_edge = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1).mean()
+    area_normals = np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]], vertices[faces[:, 2]] - vertices[faces[:, 0]])
+    normals = np.zeros_like(vertices)
+    for k in range(3):
+        np.add.at(normals, faces[:, k], area_normals)
+    normals /= np.maximum(np.linalg.norm(normals, axis=1), 1e-300)[:, None]
+    noise = np.random.default_rng(3).normal(0.0, 0.1 * mean_edge, len(vertices))
+    noisy = crestline.extract(vertices + normals * noise[:, None], faces)
+    assert noisy.stats["crease_normals_filtered"]
+    assert noisy.stats["creases"] >= 30
+    clean = crestline.extract(*fandisk)
+    assert clean.stats["creases"] > 0
+    assert not clean.stats["crease_normals_filtered"]
+
+
 def test_extract_drops_the_lines_the_noise_moves_about_unless_told_to_keep_them():
     # The public noisy bumps: white noise, whose weak crests give lines that wander.
     vertices, faces = crestline.read_mesh(case_path("bumpy/noisy20k"))

@@ -161,7 +161,8 @@ pub struct Args {
     pub estimator: EstimatorArgs,
     /// Sharp creases the estimation does not reach across (each side of a crease gets its
     /// own fit, as in `extract`; estimator jet-fit only): `auto` (default: edges above the gap in the histogram of
-    /// dihedral angles; none on scans), `off`, or a dihedral angle in degrees.
+    /// dihedral angles, or between filtered normals on a noisy mesh without one; none on scans
+    /// of smooth shapes), `off`, or a dihedral angle in degrees.
     #[arg(
         long,
         value_name = "auto|off|DEGREES",

@@ -116,7 +116,9 @@ pub struct Args {
     #[arg(long, value_name = "DEGREES", value_parser = degrees, allow_negative_numbers = true)]
     pub crease_angle: Option<f64>,
     /// Sharp creases: `auto` (default: edges above the gap in the histogram of dihedral
-    /// angles; none when there is no gap, as on scans), `off`, or a dihedral angle in degrees.
+    /// angles; on a noisy mesh without one, the gap between face normals filtered within the
+    /// faces, as on a scan of a machined part; none when there is no gap, as on scans of
+    /// smooth shapes), `off`, or a dihedral angle in degrees.
     #[arg(
         long,
         value_name = "auto|off|DEGREES",
@@ -345,8 +347,13 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
     );
     if s.creases > 0 {
         eprintln!(
-            "sharp creases: dihedral angle > {:.1} degrees, length {}",
+            "sharp creases: dihedral angle > {:.1} degrees{}, length {}",
             s.crease_threshold.unwrap_or(f64::NAN),
+            if s.crease_normals_filtered {
+                " between filtered normals (the mesh is noisy)"
+            } else {
+                ""
+            },
             significant(s.crease_length)
         );
     }
@@ -870,9 +877,14 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
     );
     out += &match s.crease_threshold {
         Some(t) => format!(
-            "creases                {} (dihedral angle > {:.2} degrees, length {})\n",
+            "creases                {} (dihedral angle > {:.2} degrees{}, length {})\n",
             s.creases,
             t,
+            if s.crease_normals_filtered {
+                " between filtered normals"
+            } else {
+                ""
+            },
             significant(s.crease_length)
         ),
         None => "creases                none\n".to_string(),
@@ -939,6 +951,7 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
         "creases": s.creases,
         "crease_length": s.crease_length,
         "crease_threshold_degrees": s.crease_threshold,
+        "crease_normals_filtered": s.crease_normals_filtered,
         "diagonal": mesh.bounding_box().diagonal(),
         "scale": s.scale,
         "threshold": s.threshold,

@@ -140,7 +140,8 @@ def extract(
       (default 1, relative to the squared mean edge length).
     - crease_angle: degrees (default 0.3 rad, about 17.2; 0 with no_twicing is HPW's plain smoothing).
     - creases: sharp creases, "auto" (default: above the gap in the histogram of dihedral
-      angles, none on scans), "off", or a dihedral angle in degrees.
+      angles; on a noisy mesh without one, the gap between face normals filtered within the
+      faces; none on scans of smooth shapes), "off", or a dihedral angle in degrees.
     - fair: fairing tolerance as a fraction of the diagonal (off).
     - no_debias: leave the crest lines where they are traced. By default, on
       meshes the jet fit finds noisy, they are moved across by the displacement its widened
@@ -195,7 +196,8 @@ def curvature(
     Options named and defaulted as the flags of ``crestline curvature``: the jet fit (the cubic
     fit when rings is given), rings 1, radius 2.5, degree 4, direction_support 0.5 (shape
     operator), creases "auto" (the jet fit does not reach across the sharp creases found above
-    the gap in the histogram of dihedral angles; "off", or an angle in degrees). An option of
+    the gap in the histogram of dihedral angles, or between filtered normals on a noisy mesh;
+    "off", or an angle in degrees). An option of
     another estimator than the one that runs raises ValueError, as does a negative rings or degree.
     """
 

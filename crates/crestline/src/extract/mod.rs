@@ -218,8 +218,12 @@ pub struct ExtractStats {
     /// Total length of the crease curves.
     pub crease_length: f64,
     /// The dihedral angle threshold of the creases (degrees); `None` when creases are off or
-    /// the mesh has no gap in its dihedral angles.
+    /// the mesh has no gap in its dihedral angles (nor, when it is noisy, in those between
+    /// filtered normals: see `crease_normals_filtered`).
     pub crease_threshold: Option<f64>,
+    /// True when the crease threshold was found between filtered face normals: the mesh is
+    /// noisy and its own dihedral angles had no gap ([`crate::lines::crease`], step 2b).
+    pub crease_normals_filtered: bool,
     /// The strength threshold applied (for Saliency: the saliency threshold; infinite when
     /// the saliency is flat, so that no vertex is a feature point).
     pub threshold: f64,
@@ -306,6 +310,7 @@ pub fn extract_with_progress(
     let t = clock.begin(Stage::Creases);
     let creases = find_creases(mesh, &options.creases)?;
     stats.crease_threshold = creases.threshold;
+    stats.crease_normals_filtered = creases.filtered;
     clock.end(Stage::Creases, t);
     let barriers = creases.barriers(mesh);
     let split = barriers.as_deref();

@@ -245,7 +245,8 @@ pub struct ExtractOptions {
     /// Sharp creases ([`crate::lines::crease`]), found before anything else on the mesh as
     /// given: the curvature fits and the extremality smoothing do not reach across them, and
     /// they join the lines at the end. Default: [`CreaseOptions::default`] (threshold from the
-    /// gap in the dihedral angles; none on meshes without such a gap) for every method.
+    /// gap in the dihedral angles, or on a noisy mesh without one in the angles between
+    /// filtered normals; none on meshes without such a gap) for every method.
     pub creases: CreaseOptions,
     /// Step 1: surface pre-smoothing. Default: off (0 steps).
     pub pre_smoothing: SurfaceSmoothing,

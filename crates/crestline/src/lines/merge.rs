@@ -523,6 +523,7 @@ mod tests {
         }
         Creases {
             threshold: Some(30.0),
+            filtered: false,
             edges,
             curves: vec![crate::lines::crease::CreaseCurve {
                 vertices,

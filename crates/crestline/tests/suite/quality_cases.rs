@@ -363,3 +363,41 @@ fn saliency_without_a_knee_is_split() {
     );
     assert!(f1 >= 0.95, "F1 {f1:.3} (P {p:.3}, R {r:.3})");
 }
+
+/// Smooth surfaces have no creases, also between filtered normals (`lines::crease`, step 2b,
+/// which runs on all of these: their angles have no gap and their faces turn by more than
+/// `NOISE_ROUGHNESS`). The two ways the filter was seen to make them (2026-11-27): the
+/// plain bilateral filter kept the normals of the irregular torus's slivers (0.5 diagonals
+/// of creases); a guidance taken from any less spread patch broke the coarse torus into
+/// facets (25 diagonals).
+#[test]
+fn smooth_surfaces_have_no_creases_between_filtered_normals() {
+    use crestline::lines::crease::{CreaseOptions, NOISE_ROUGHNESS, find_creases, roughness};
+    for case in [
+        "ring/irr20k",
+        "ring/reg5k",
+        "bumpy/noisy20k",
+        "ridge/noisy20k",
+    ] {
+        let mesh = load(case);
+        assert!(
+            roughness(&mesh).to_degrees() >= NOISE_ROUGHNESS,
+            "{case}: the filter would not run"
+        );
+        let raw = CreaseOptions {
+            filter_noise: false,
+            ..CreaseOptions::DEFAULT
+        };
+        assert!(
+            find_creases(&mesh, &raw).unwrap().is_empty(),
+            "{case}: no step 2b"
+        );
+        let creases = find_creases(&mesh, &CreaseOptions::DEFAULT).unwrap();
+        assert!(
+            creases.is_empty(),
+            "{case}: {} creases above {:?} degrees",
+            creases.curves.len(),
+            creases.threshold
+        );
+    }
+}

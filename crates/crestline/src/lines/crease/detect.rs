@@ -38,7 +38,12 @@ const MIN_SIDE_EDGES: usize = 4;
 /// edges and where a face has no normal. Faces wound against each other are compared with
 /// one normal flipped.
 pub fn dihedral_angles(mesh: &TriMesh) -> Vec<f64> {
-    let normals = face_normals(mesh);
+    dihedral_angles_between(mesh, &face_normals(mesh))
+}
+
+/// [`dihedral_angles`] between the given face normals (one per face, unit or zero), such as
+/// the filtered ones of step 2b ([`super::filtered_normals`]).
+pub fn dihedral_angles_between(mesh: &TriMesh, normals: &[Vec3]) -> Vec<f64> {
     let topo = mesh.topology();
     let faces = topo.faces();
     (0..topo.num_edges() as u32)
@@ -68,7 +73,7 @@ pub fn dihedral_angles(mesh: &TriMesh) -> Vec<f64> {
 }
 
 /// True when triangle `t` runs from `a` to `b` (rather than from `b` to `a`).
-fn runs_from(t: [u32; 3], a: u32, b: u32) -> bool {
+pub(super) fn runs_from(t: [u32; 3], a: u32, b: u32) -> bool {
     (0..3).any(|s| t[s] == a && t[(s + 1) % 3] == b)
 }
 
