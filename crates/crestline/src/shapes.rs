@@ -534,6 +534,41 @@ pub fn pillow_box(half: f64, bulge: f64, n: usize) -> (TriMesh, FeatureLines) {
     (build(positions, faces), FeatureLines { lines })
 }
 
+/// `mesh` as a scan would give it: every vertex moved along its (area-weighted) normal by a
+/// normal number of standard deviation `fraction` of the mean edge length. The numbers come
+/// from a hash of the vertex index and `seed`, so the same arguments give the same mesh on
+/// every machine; the faces are kept as they are.
+///
+/// ```
+/// let clean = crestline::shapes::icosphere(1.0, 3);
+/// let noisy = crestline::shapes::with_normal_noise(&clean, 0.1, 7);
+/// assert_eq!(noisy.faces(), clean.faces());
+/// assert_ne!(noisy.positions(), clean.positions());
+/// ```
+pub fn with_normal_noise(mesh: &TriMesh, fraction: f64, seed: u64) -> TriMesh {
+    let sigma = fraction * crate::mesh::mean_edge_length(mesh);
+    let normals = crate::mesh::vertex_normals_area(mesh);
+    let positions = (mesh.positions().iter().zip(&normals).enumerate())
+        .map(|(i, (p, n))| p + n * (sigma * standard_normal(i, seed)))
+        .collect();
+    match mesh.with_positions(positions) {
+        Ok(m) => m,
+        // Finite moves of finite positions, one per vertex.
+        Err(e) => unreachable!("noisy mesh is invalid: {e}"),
+    }
+}
+
+/// A standard normal number for `(i, seed)` (Box–Muller on two hashed uniforms).
+fn standard_normal(i: usize, seed: u64) -> f64 {
+    let uniform = |k: u64| {
+        let mut z = (i as u64 * 2 + k + seed * 0x1_0000_0001).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 31)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z ^= z >> 29;
+        ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    (-2.0 * uniform(0).ln()).sqrt() * (TAU * uniform(1)).cos()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

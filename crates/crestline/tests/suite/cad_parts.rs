@@ -143,31 +143,6 @@ fn saliency_lines_are_the_sharp_edges_of_cad_parts() {
     check(Method::Saliency);
 }
 
-/// A standard normal number for `(i, seed)` (Box–Muller on two hashed uniforms).
-fn normal(i: usize, seed: u64) -> f64 {
-    let uniform = |k: u64| {
-        let mut z = (i as u64 * 2 + k + seed * 0x1_0000_0001).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        z = (z ^ (z >> 31)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z ^= z >> 29;
-        ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    };
-    (-2.0 * uniform(0).ln()).sqrt() * (std::f64::consts::TAU * uniform(1)).cos()
-}
-
-/// The part as a scan would give it: every vertex moved along its normal by a normal
-/// number of standard deviation `fraction` of the mean edge.
-fn with_normal_noise(mesh: &TriMesh, fraction: f64, seed: u64) -> TriMesh {
-    let sigma = fraction * crestline::mesh::mean_edge_length(mesh);
-    let normals = crestline::mesh::vertex_normals_area(mesh);
-    let positions = (mesh.positions().iter().zip(&normals).enumerate())
-        .map(|(i, (p, n))| {
-            let q = p + n * (sigma * normal(i, seed));
-            [q.x, q.y, q.z]
-        })
-        .collect();
-    TriMesh::from_arrays(positions, mesh.faces().to_vec()).unwrap()
-}
-
 /// F1 of the lines `options` give on `mesh` against `sharp`, the creases found and whether
 /// they were found between filtered normals.
 fn noisy_f1(mesh: &TriMesh, sharp: &[[Vec3; 2]], options: &ExtractOptions) -> (f64, usize, bool) {
@@ -196,7 +171,7 @@ fn noisy_parts_have_their_creases() {
         ("star_prism", 0.1),
     ] {
         let (mesh, sharp) = load(&format!("{part}-uniform"));
-        let noisy = with_normal_noise(&mesh, fraction, 11);
+        let noisy = crestline::shapes::with_normal_noise(&mesh, fraction, 11);
         let mut unfiltered = ExtractOptions::default();
         unfiltered.creases.filter_noise = false;
         let (before, _, _) = noisy_f1(&noisy, &sharp, &unfiltered);
@@ -226,7 +201,7 @@ fn noisy_parts_have_their_creases() {
 #[test]
 fn debias_leaves_the_edges_of_a_noisy_part_alone() {
     let (mesh, sharp) = load("pipe_elbow-uniform");
-    let noisy = with_normal_noise(&mesh, 0.1, 7);
+    let noisy = crestline::shapes::with_normal_noise(&mesh, 0.1, 7);
     let f1 = |debias_lines: bool| {
         // The creases between filtered normals (`lines::crease`, step 2b) would take the
         // edges from the crest lines; this is the mesh where they are not found.

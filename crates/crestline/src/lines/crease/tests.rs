@@ -221,11 +221,13 @@ fn a_noisy_fold_is_a_crease_between_filtered_normals() {
     assert_eq!(creases.curves.len(), 1, "{:?}", creases.threshold);
     let curve = &creases.curves[0];
     assert!(curve.convex);
+    // The fold is the middle column (15) of the 31 × 31 vertices; at the mesh's edge, where
+    // the faces have fewer neighbours to filter with, the curve may end one column aside.
     assert!(
-        curve
-            .vertices
-            .iter()
-            .all(|&v| (mesh.position(v).x - 15.0).abs() < 1e-9),
+        curve.vertices.iter().all(|&v| {
+            let (row, column) = (v / 31, v % 31);
+            column == 15 || ((row == 0 || row == 30) && column.abs_diff(15) == 1)
+        }),
         "a crease off the fold"
     );
     assert!(curve.length >= 29.0, "length {}", curve.length);
