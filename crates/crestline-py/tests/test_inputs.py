@@ -465,6 +465,8 @@ def test_a_noisy_part_has_its_creases_between_filtered_normals(fandisk):
     # A machined part as a scan gives it (noise of 0.1 of the mean edge along the normals):
     # its dihedral angles have no gap, the filtered normals' have (`lines::crease`, step 2b).
     path = case_path("bumpy/reg5k").parents[2] / "cad" / "hex_nut-uniform.obj"
+    if not path.is_file():
+        pytest.skip(f"{path} not found (set CRESTLINE_SHARED)")
     vertices, faces = crestline.read_mesh(path)
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     mean_edge = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1).mean()

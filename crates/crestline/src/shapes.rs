@@ -536,32 +536,43 @@ pub fn pillow_box(half: f64, bulge: f64, n: usize) -> (TriMesh, FeatureLines) {
 
 /// `mesh` as a scan would give it: every vertex moved along its (area-weighted) normal by a
 /// normal number of standard deviation `fraction` of the mean edge length. The numbers come
-/// from a hash of the vertex index and `seed`, so the same arguments give the same mesh on
-/// every machine; the faces are kept as they are.
+/// from a hash of the vertex index and `seed` (the same arguments give the same mesh, up to
+/// the last bits of the platform's `ln` and `cos`); the faces are kept as they are.
 ///
 /// ```
+/// # fn main() -> crestline::Result<()> {
 /// let clean = crestline::shapes::icosphere(1.0, 3);
-/// let noisy = crestline::shapes::with_normal_noise(&clean, 0.1, 7);
+/// let noisy = crestline::shapes::with_normal_noise(&clean, 0.1, 7)?;
 /// assert_eq!(noisy.faces(), clean.faces());
 /// assert_ne!(noisy.positions(), clean.positions());
+/// # Ok(())
+/// # }
 /// ```
-pub fn with_normal_noise(mesh: &TriMesh, fraction: f64, seed: u64) -> TriMesh {
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] when `fraction` is negative or not finite.
+pub fn with_normal_noise(mesh: &TriMesh, fraction: f64, seed: u64) -> crate::Result<TriMesh> {
+    if !(fraction.is_finite() && fraction >= 0.0) {
+        return Err(crate::Error::InvalidInput(format!(
+            "noise must be a fraction of the mean edge >= 0, got {fraction}"
+        )));
+    }
     let sigma = fraction * crate::mesh::mean_edge_length(mesh);
     let normals = crate::mesh::vertex_normals_area(mesh);
     let positions = (mesh.positions().iter().zip(&normals).enumerate())
         .map(|(i, (p, n))| p + n * (sigma * standard_normal(i, seed)))
         .collect();
-    match mesh.with_positions(positions) {
-        Ok(m) => m,
-        // Finite moves of finite positions, one per vertex.
-        Err(e) => unreachable!("noisy mesh is invalid: {e}"),
-    }
+    mesh.with_positions(positions)
 }
 
 /// A standard normal number for `(i, seed)` (Box–Muller on two hashed uniforms).
 fn standard_normal(i: usize, seed: u64) -> f64 {
     let uniform = |k: u64| {
-        let mut z = (i as u64 * 2 + k + seed * 0x1_0000_0001).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        let mut z = (i as u64)
+            .wrapping_mul(2)
+            .wrapping_add(k)
+            .wrapping_add(seed.wrapping_mul(0x1_0000_0001))
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15);
         z = (z ^ (z >> 31)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z ^= z >> 29;
         ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64

@@ -155,8 +155,8 @@ fn noisy_f1(mesh: &TriMesh, sharp: &[[Vec3; 2]], options: &ExtractOptions) -> (f
     )
 }
 
-/// Machined parts under the noise of a scan (0.05 and 0.1 of the mean edge along the
-/// normals): their dihedral angles have no gap, and the creases are found between filtered
+/// Machined parts under the noise of a scan (0.07 and 0.1 of the mean edge along the
+/// normals; at 0.05 some noises leave the gap): their dihedral angles have no gap, and the creases are found between filtered
 /// normals (`lines::crease`, step 2b). Measured 2026-11-27 (HPW, these meshes): without the
 /// filter F1 0.50 to 0.60 (the crest lines of the widened fit: the hex nut's 30° chamfers
 /// came out as one line between their two edges, spurious lines beside the edges), with it
@@ -165,13 +165,13 @@ fn noisy_f1(mesh: &TriMesh, sharp: &[[Vec3; 2]], options: &ExtractOptions) -> (f
 fn noisy_parts_have_their_creases() {
     let mut failures = Vec::new();
     for (part, fraction) in [
-        ("hex_nut", 0.05),
+        ("hex_nut", 0.07),
         ("hex_nut", 0.1),
         ("slotted_plate", 0.1),
         ("star_prism", 0.1),
     ] {
         let (mesh, sharp) = load(&format!("{part}-uniform"));
-        let noisy = crestline::shapes::with_normal_noise(&mesh, fraction, 11);
+        let noisy = crestline::shapes::with_normal_noise(&mesh, fraction, 11).unwrap();
         let mut unfiltered = ExtractOptions::default();
         unfiltered.creases.filter_noise = false;
         let (before, _, _) = noisy_f1(&noisy, &sharp, &unfiltered);
@@ -201,7 +201,7 @@ fn noisy_parts_have_their_creases() {
 #[test]
 fn debias_leaves_the_edges_of_a_noisy_part_alone() {
     let (mesh, sharp) = load("pipe_elbow-uniform");
-    let noisy = crestline::shapes::with_normal_noise(&mesh, 0.1, 7);
+    let noisy = crestline::shapes::with_normal_noise(&mesh, 0.1, 7).unwrap();
     let f1 = |debias_lines: bool| {
         // The creases between filtered normals (`lines::crease`, step 2b) would take the
         // edges from the crest lines; this is the mesh where they are not found.

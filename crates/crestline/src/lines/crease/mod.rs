@@ -29,13 +29,14 @@
 //!    turn from their neighbours by at least [`NOISE_ROUGHNESS`] ([`roughness`]), the face
 //!    normals are smoothed within the faces and not across the creases (a guided bilateral
 //!    filter, see [`filtered_normals`]), and the gap is looked for again in the angles between
-//!    them; the polyhedral rule below does not apply (noisy faces are no exact planes). The
+//!    them; the polyhedral rule above does not apply (noisy faces are no exact planes). The
 //!    gaps considered end above the roughness: a crease the noise hid turns more than the
 //!    noise turns the faces, and a gap below that is the filter's own (it evens the normals
 //!    of a coarse smooth mesh into facets: a torus of 60 × 20 quads, roughness 6.2°, got one
 //!    from 1° to 1.5°). Scans of smooth shapes and noisy smooth surfaces have no gap in these
-//!    either (all the shared meshes, the public analytic cases and 84 more with noise up to
-//!    0.3 of the mean edge, coarse tori and capsules).
+//!    either (all the shared meshes; the public analytic cases, the 46 noisy ones made alike
+//!    for issue 19 and 38 more with noise of 0.15 and 0.3 of the mean edge; coarse tori and
+//!    capsules).
 //! 3. *Tessellation edges* ([`is_facet_edge`]): a coarse tessellation of a cylinder or a fillet
 //!    turns by the same few degrees at every edge across the surface, and can stand above the
 //!    gap on its own (a cylinder exported as 54 facets has only flat edges and 6.7° edges). Such
@@ -362,7 +363,9 @@ fn creases_between_filtered_normals(
 }
 
 /// The gap of the automatic threshold: the lowest of the [`gap_thresholds`] ending above
-/// `floor` (radians) above which
+/// `floor` (radians; the widest gap, which the others are measured against, may lie below it:
+/// choosing it among those above only was tried and gave noisy irregular spheres creases)
+/// above which
 /// the edges up to the next gap are not mostly (by length) tessellation edges ([`is_facet_edge`]):
 /// a gap inside the spread of a tessellation's angles is not the one below the creases (the
 /// facets of a chamfer's cone and a hole's fillet, 1° to 15°, left a thin stretch about 2°

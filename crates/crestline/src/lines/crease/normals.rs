@@ -13,14 +13,14 @@
 //! **The filter** is a joint bilateral filter of the face normals (Zheng, Fu, Au and Tai,
 //! *Bilateral Normal Filtering for Mesh Denoising*, IEEE TVCG 2011, eq. 6) whose range weight
 //! compares guidance normals rather than the noisy normals themselves, as in *Guided Mesh
-//! Normal Filtering* (Zhang, Deng, Zhang, Bouaziz and Liu, Pacific Graphics 2015). Each of
-//! [`ITERATIONS`] rounds, on the normals of one consistent winding
-//! ([`crate::mesh::orientation`]; a triangle wound against its neighbours would otherwise be
-//! averaged into theirs and its edges read as folds):
-//! 1. *Patches.* The spacing s_f of face f is the mean distance from its centroid to those of
-//!    the faces across its edges. The patch of f is f and the faces that share a vertex with
-//!    it and whose centroids lie within [`PATCH_REACH`] s_f (on a regular mesh all of them; in
-//!    a fan of slivers the nearby ones). Its mean normal is the area-weighted mean of theirs,
+//! Normal Filtering* (Zhang, Deng, Zhang, Bouaziz and Liu, Pacific Graphics 2015). It works
+//! on the normals of one consistent winding ([`crate::mesh::orientation`]; a triangle wound
+//! against its neighbours would otherwise be averaged into theirs and its edges read as
+//! folds). Once: the spacing s_f of face f is the mean distance from its centroid to those
+//! of the faces across its edges, and the patch of f is f and the faces that share a vertex
+//! with it and whose centroids lie within [`PATCH_REACH`] s_f (on a regular mesh all of them;
+//! in an open fan of slivers the nearby ones). Then [`ITERATIONS`] rounds of:
+//! 1. *Patch means.* The mean normal of a patch is the area-weighted mean of its faces',
 //!    its spread the area-weighted mean of their squared distances from it.
 //! 2. *Guidance.* The guidance normal g_f is the mean of f's own patch, or, when a face of it
 //!    has a patch of less than half that spread ([`CONSISTENT`]), the mean of the least
@@ -43,8 +43,9 @@
 //! **Measured** (`score_cad.py --cases`, default HPW): the eight public uniform parts with
 //! noise of 0.05 and 0.1 of the mean edge, mean F1 0.798 → 0.980 (BENCHMARKS.md, "Noisy
 //! machined parts"); none of the shared meshes (scans, the smooth and the subdivided models)
-//! nor of the public and 84 further analytic cases (regular, irregular, marching cubes, noise
-//! 0.05 to 0.3 of the mean edge) gains a crease, nor do coarse tori and capsules.
+//! nor of the public analytic cases, the 46 noisy ones made alike for issue 19 and 38 more
+//! with noise of 0.15 and 0.3 of the mean edge gains a crease, nor do coarse tori and
+//! capsules.
 
 use rayon::prelude::*;
 
@@ -63,7 +64,7 @@ pub const ITERATIONS: usize = 5;
 
 /// Width of the range weight, in distance between unit normals (0.3: an angle of 17°). Noise
 /// of 0.1 of the mean edge turns the normals of neighbouring faces by about this much; a
-/// chamfer of 30° (a distance of 0.52) is two widths away. Measured on the noisy parts of the
+/// chamfer of 30° (a distance of 0.52) is 1.7 widths away (weight 0.22). Measured on the noisy parts of the
 /// module docs: 0.4 mixed the hex nut's chamfers with its faces (F1 1.000 → 0.803 at noise
 /// 0.05 of the mean edge).
 pub const RANGE: f64 = 0.3;
@@ -127,8 +128,10 @@ pub fn filtered_normals(mesh: &TriMesh) -> Vec<Vec3> {
                 let mut sum = n * areas[f];
                 for &g in patches.of(f) {
                     let g = g as usize;
+                    // Twin faces (a triangle stored twice) have no spacing: weight 1.
                     let sigma = 0.5 * (spacing[f] + spacing[g]);
-                    let d_s = (centroids[f] - centroids[g]).norm_squared() / (2.0 * sigma * sigma);
+                    let d_s = (centroids[f] - centroids[g]).norm_squared()
+                        / (2.0 * sigma * sigma).max(f64::MIN_POSITIVE);
                     let d_r = range * (guidance[f] - guidance[g]).norm_squared();
                     sum += normals[g] * (areas[g] * (-d_s - d_r).exp());
                 }
@@ -209,7 +212,9 @@ fn patch_mean(f: usize, others: &[u32], normals: &[Vec3], areas: &[f64]) -> (Vec
 
 /// Per face, the mean distance from its centroid to those of the faces across its edges (0
 /// for a face without such neighbours): the width of the spatial weight and the reach of
-/// the patch, local so that parts meshed at different densities are filtered alike.
+/// the patch, local so that parts meshed at different densities are filtered alike. (The
+/// median was tried, to keep the patches of a closed fan small, see [`PATCH_REACH`]: the
+/// noisy irregular spheres of issue 19 then got creases.)
 fn local_spacings(mesh: &TriMesh, centroids: &[Vec3]) -> Vec<f64> {
     let topo = mesh.topology();
     (0..centroids.len() as u32)
@@ -240,6 +245,14 @@ struct Patches {
 /// vertex of high valence (the pole of a capsule, an exported disc) only the nearby ones
 /// are, so the patch stays local (the whole fan made a guidance of its mean, which evened
 /// the first ring of a capsule into a crease) and small (a fan of n faces gave n² entries).
+/// Finding them still reads every face around each corner: a fan of n faces costs n² distance
+/// checks (about 1.4 ns each: 4.6 s for a fan of 40,000, measured in a review), which step 2b
+/// pays only on a mesh without a gap and rough enough (an exported CAD fan has its gap). In a
+/// closed fan (a pole), each sliver's third neighbour lies across the ring and widens its
+/// spacing: patches of about a third of the fan (620 faces in a cone of 2,000 slivers; a noisy
+/// sphere of 20,000 segments and 12 rings took 11 s and 1.5 GB in step 2b, measured in a
+/// review). Left as is: the median spacing keeps them small but gave noisy irregular
+/// spheres creases.
 const PATCH_REACH: f64 = 2.5;
 
 impl Patches {
@@ -306,8 +319,13 @@ pub(super) mod tests {
 
     /// The grid folded into a roof along its middle column (x = n/2) turning by `fold`
     /// degrees, every vertex then moved along its normal by noise of `noise` mean edges
-    /// ([`crate::shapes::with_normal_noise`]).
-    pub(in crate::lines::crease) fn noisy_roof(n: u32, fold: f64, noise: f64) -> TriMesh {
+    /// ([`crate::shapes::with_normal_noise`] with `seed`).
+    pub(in crate::lines::crease) fn noisy_roof(
+        n: u32,
+        fold: f64,
+        noise: f64,
+        seed: u64,
+    ) -> TriMesh {
         let slope = (fold.to_radians() / 2.0).tan();
         let half = f64::from(n) / 2.0;
         let grid = grid(n);
@@ -316,12 +334,13 @@ pub(super) mod tests {
             .iter()
             .map(|p| Vec3::new(p.x, p.y, slope * (half - (p.x - half).abs())))
             .collect();
-        crate::shapes::with_normal_noise(&grid.with_positions(positions).unwrap(), noise, 1)
+        crate::shapes::with_normal_noise(&grid.with_positions(positions).unwrap(), noise, seed)
+            .unwrap()
     }
 
     #[test]
     fn the_filter_flattens_the_noise_and_keeps_the_fold() {
-        let mesh = noisy_roof(30, 40.0, 0.1);
+        let mesh = noisy_roof(30, 40.0, 0.1, 1);
         let topo = mesh.topology();
         // The fold: the middle column (15) of the 31 × 31 vertices.
         let on_fold = |e: usize| topo.edge(e as u32).iter().all(|v| v % 31 == 15);
@@ -346,9 +365,10 @@ pub(super) mod tests {
             "flat edges {raw_flat:.2} -> {flat:.2} degrees"
         );
         // The faces beside the fold mix a little across it (the range weight of 40° is
-        // 0.08): measured 38.5 -> 32.7 degrees (flat edges 9.65 -> 0.49).
+        // 0.08): measured 38.5 -> 32.7 degrees (flat edges 9.65 -> 0.49); 29 to 37 over 60
+        // seeds.
         assert!(
-            (30.0..42.0).contains(&fold),
+            (25.0..42.0).contains(&fold),
             "fold {raw_fold:.1} -> {fold:.1} degrees"
         );
         assert!(roughness(&mesh).to_degrees() >= NOISE_ROUGHNESS);
@@ -407,7 +427,7 @@ pub(super) mod tests {
 
     #[test]
     fn a_triangle_wound_against_its_neighbours_keeps_its_side() {
-        let mesh = noisy_roof(30, 40.0, 0.1);
+        let mesh = noisy_roof(30, 40.0, 0.1, 1);
         let mut faces = mesh.faces().to_vec();
         for t in faces.iter_mut().step_by(13) {
             t.swap(1, 2);

@@ -110,13 +110,15 @@ fn inward_cube_has_concave_creases() {
 
 #[test]
 fn smooth_meshes_have_no_gap() {
-    // Also none between filtered normals (step 2b runs on the coarse ones, rougher than
+    // Also none between filtered normals (step 2b runs on all but the icosphere, rougher than
     // NOISE_ROUGHNESS): the torus's filtered angles have a gap of the filter's own below its
     // roughness; the capsules' pole fans, whole in one patch, once evened their first rings
     // into creases.
     let mut meshes = vec![shapes::icosphere(1.0, 3), shapes::torus(3.0, 1.0, 60, 20)];
     meshes.extend([24, 32, 40, 48].map(|n| shapes::capsule(1.0, 2.0, n)));
-    for mesh in meshes {
+    for (k, mesh) in meshes.into_iter().enumerate() {
+        // All but the icosphere are rough enough for step 2b to run.
+        assert!(k == 0 || roughness(&mesh).to_degrees() >= NOISE_ROUGHNESS);
         let creases = find_creases(&mesh, &CreaseOptions::DEFAULT).unwrap();
         assert!(creases.is_empty(), "{:?}", creases.threshold);
     }
@@ -206,34 +208,47 @@ fn stray_curves_are_dropped_by_length() {
 }
 
 /// Step 2b: the noise of a scan leaves no gap in the angles of a folded sheet; between the
-/// filtered normals its fold is a crease again, and nothing else is.
+/// filtered normals its fold is a crease again, and nothing else is. Over several noises: a
+/// curve may end one column aside at the mesh's edge or step aside for a vertex, and the
+/// fold come out in a few pieces, but every crease vertex is within a column of the fold and
+/// the convex curves cover it.
 #[test]
 fn a_noisy_fold_is_a_crease_between_filtered_normals() {
-    let mesh = normals::tests::noisy_roof(30, 40.0, 0.1);
-    let lengths = edge_lengths(&mesh);
-    assert_eq!(
-        gap_threshold(&dihedral_angles(&mesh), &lengths),
-        None,
-        "the premise: the noise hides the gap"
-    );
-    let creases = find_creases(&mesh, &CreaseOptions::DEFAULT).unwrap();
-    assert!(creases.filtered);
-    assert_eq!(creases.curves.len(), 1, "{:?}", creases.threshold);
-    let curve = &creases.curves[0];
-    assert!(curve.convex);
-    // The fold is the middle column (15) of the 31 × 31 vertices; at the mesh's edge, where
-    // the faces have fewer neighbours to filter with, the curve may end one column aside.
-    assert!(
-        curve.vertices.iter().all(|&v| {
-            let (row, column) = (v / 31, v % 31);
-            column == 15 || ((row == 0 || row == 30) && column.abs_diff(15) == 1)
-        }),
-        "a crease off the fold"
-    );
-    assert!(curve.length >= 29.0, "length {}", curve.length);
-    let unfiltered = CreaseOptions {
-        filter_noise: false,
-        ..CreaseOptions::DEFAULT
-    };
-    assert!(find_creases(&mesh, &unfiltered).unwrap().is_empty());
+    for seed in 1..=6 {
+        let mesh = normals::tests::noisy_roof(30, 40.0, 0.1, seed);
+        let lengths = edge_lengths(&mesh);
+        assert_eq!(
+            gap_threshold(&dihedral_angles(&mesh), &lengths),
+            None,
+            "seed {seed}: the premise, the noise hides the gap"
+        );
+        let creases = find_creases(&mesh, &CreaseOptions::DEFAULT).unwrap();
+        assert!(creases.filtered, "seed {seed}");
+        assert!(
+            (1..=8).contains(&creases.curves.len()),
+            "seed {seed}: {} curves",
+            creases.curves.len()
+        );
+        // The fold is the middle column (15) of the 31 × 31 vertices.
+        assert!(
+            creases
+                .curves
+                .iter()
+                .flat_map(|c| &c.vertices)
+                .all(|&v| (v % 31).abs_diff(15) <= 1),
+            "seed {seed}: a crease off the fold"
+        );
+        let convex: f64 = creases
+            .curves
+            .iter()
+            .filter(|c| c.convex)
+            .map(|c| c.length)
+            .sum();
+        assert!(convex >= 28.0, "seed {seed}: convex length {convex}");
+        let unfiltered = CreaseOptions {
+            filter_noise: false,
+            ..CreaseOptions::DEFAULT
+        };
+        assert!(find_creases(&mesh, &unfiltered).unwrap().is_empty());
+    }
 }
