@@ -363,8 +363,7 @@ fn creases_between_filtered_normals(
 }
 
 /// The gap of the automatic threshold: the lowest of the [`gap_thresholds`] ending above
-/// `floor` (radians; the widest gap, which the others are measured against, may lie below it:
-/// choosing it among those above only was tried and gave noisy irregular spheres creases)
+/// `floor` (radians; the widest gap, which the others are measured against, may lie below it)
 /// above which
 /// the edges up to the next gap are not mostly (by length) tessellation edges ([`is_facet_edge`]):
 /// a gap inside the spread of a tessellation's angles is not the one below the creases (the
