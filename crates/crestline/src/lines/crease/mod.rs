@@ -364,8 +364,8 @@ fn creases_between_filtered_normals(
 
 /// The gap of the automatic threshold: the lowest of the [`gap_thresholds`] ending above
 /// `floor` (radians; the widest gap, which the others are measured against, may lie below it)
-/// above which
-/// the edges up to the next gap are not mostly (by length) tessellation edges ([`is_facet_edge`]):
+/// above which the edges up to the next gap are not mostly (by length) tessellation edges
+/// ([`is_facet_edge`]):
 /// a gap inside the spread of a tessellation's angles is not the one below the creases (the
 /// facets of a chamfer's cone and a hole's fillet, 1° to 15°, left a thin stretch about 2°
 /// on a bracket, above which every facet of the cone was taken for a crease). `None` when

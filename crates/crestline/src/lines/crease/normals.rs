@@ -90,13 +90,7 @@ pub fn filtered_normals(mesh: &TriMesh) -> Vec<Vec3> {
             (n * side(f), area)
         })
         .unzip();
-    let centroids: Vec<Vec3> = (0..faces.len())
-        .into_par_iter()
-        .map(|f| {
-            let [a, b, c] = mesh.triangle(f);
-            (a + b + c) / 3.0
-        })
-        .collect();
+    let centroids = centroids(mesh);
     let spacing = local_spacings(mesh, &centroids);
     let patches = Patches::new(mesh, &centroids, &spacing);
     let range = 0.5 / (RANGE * RANGE);
@@ -166,17 +160,12 @@ pub fn roughness(mesh: &TriMesh) -> f64 {
             let t = topo.faces()[f];
             let mut sum = Vec3::zeros();
             for s in 0..3 {
-                let (a, b) = (t[s], t[(s + 1) % 3]);
-                let Some(e) = topo.edge_between(a, b) else {
+                let Some(g) = topo.face_across(f as u32, s) else {
                     continue;
                 };
-                let &[g, h] = topo.edge_faces(e) else {
-                    continue;
-                };
-                let g = if g as usize == f { h } else { g } as usize;
-                let (ng, area) = face_normal_and_area(mesh, g);
+                let (ng, area) = face_normal_and_area(mesh, g as usize);
                 // A neighbour wound the same way along the edge is wound against f.
-                let flip = runs_from(topo.faces()[g], a, b);
+                let flip = runs_from(topo.faces()[g as usize], t[s], t[(s + 1) % 3]);
                 sum += ng * if flip { -area } else { area };
             }
             let m = sum.try_normalize(0.0)?;
@@ -192,6 +181,17 @@ pub fn roughness(mesh: &TriMesh) -> f64 {
 
 /// Faces [`roughness`] looks at, at most.
 const ROUGHNESS_SAMPLES: usize = 20_000;
+
+/// The centroid of every face.
+fn centroids(mesh: &TriMesh) -> Vec<Vec3> {
+    (0..mesh.num_faces())
+        .into_par_iter()
+        .map(|f| {
+            let [a, b, c] = mesh.triangle(f);
+            (a + b + c) / 3.0
+        })
+        .collect()
+}
 
 /// Area-weighted mean normal of face `f`'s patch and its spread (module docs, step 1); the
 /// spread is infinite for a patch without area.
@@ -375,12 +375,7 @@ pub(super) mod tests {
     }
 
     fn patches(mesh: &TriMesh) -> Patches {
-        let centroids: Vec<Vec3> = (0..mesh.num_faces())
-            .map(|f| {
-                let [a, b, c] = mesh.triangle(f);
-                (a + b + c) / 3.0
-            })
-            .collect();
+        let centroids = centroids(mesh);
         Patches::new(mesh, &centroids, &local_spacings(mesh, &centroids))
     }
 
