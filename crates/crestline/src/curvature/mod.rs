@@ -102,6 +102,18 @@ pub struct Curvature {
     /// ([`jet_fit::one_sided_vertices`](crate::curvature::jet_fit::one_sided_vertices)).
     /// Empty for the other estimators and for meshes without a boundary.
     pub one_sided: Vec<bool>,
+    /// Per vertex, what one more application of the extremality smoothing changes the
+    /// smoothed `e_max` and `e_min` by, when the smoothing measured it
+    /// ([`ExtremalitySmoothing::measure_drift`](crate::smoothing::extremality::ExtremalitySmoothing::measure_drift));
+    /// empty otherwise. The smoothing moves the zeros of a field that bends on its own scale
+    /// (twicing removes the first-order part of that move, not all of it); applied again
+    /// to the smoothed field it moves them again, less far where the first pass softened the
+    /// bend, so this change over the slope across a line is a lower estimate of how far the
+    /// smoothing moved the line ([`crate::lines::debias`], *Smoothing drift*).
+    pub smoothing_drift: [Vec<f64>; 2],
+    /// The same for [`Curvature::simulated_noise`]: what the drift's estimate carries of the
+    /// noise (empty unless both are there).
+    pub smoothing_drift_noise: [Vec<f64>; 2],
     /// What the jet fit measured and chose (sample spacing, radius, noise level); `None` for
     /// the other estimators.
     pub jet_fit: Option<JetFitReport>,
@@ -512,6 +524,8 @@ where
         simulated_noise: Default::default(),
         alternative_extremalities: Default::default(),
         one_sided: Vec::new(),
+        smoothing_drift: Default::default(),
+        smoothing_drift_noise: Default::default(),
         jet_fit: None,
     };
     let mut fallback = vec![false; n];

@@ -13,8 +13,9 @@
 //!
 //! Between 6 and 7 ([`ExtractOptions::debias_lines`], on by default), on surfaces the jet
 //! fit found noisy, the crest lines are moved across by the displacement the fit's widened
-//! disc causes ([`crate::lines::debias`]); so are the saliency method's, which are crest
-//! lines too (linked crest points).
+//! disc causes and by the drift the extremality smoothing measured of itself
+//! ([`crate::lines::debias`]); so are the saliency method's, which are crest lines too
+//! (linked crest points).
 //!
 //! Before the threshold of step 6 ([`ExtractOptions::drop_unlocated_lines`], on by default),
 //! on surfaces whose noise the jet fit finds white, the HPW and YBS lines whose extremality
@@ -107,6 +108,7 @@
 
 mod options;
 
+use std::borrow::Cow;
 use std::time::{Duration, Instant};
 
 pub use options::{
@@ -128,7 +130,9 @@ use crate::lines::{
 };
 use crate::mesh::{Orientation, TriMesh, orientation, reverse_faces};
 use crate::saliency::mesh_saliency;
-use crate::smoothing::extremality::{smooth_extremalities, smooth_extremalities_split};
+use crate::smoothing::extremality::{
+    ExtremalitySmoothing, smooth_extremalities, smooth_extremalities_split,
+};
 use crate::smoothing::surface::smooth_surface;
 use crate::threshold::{ChosenThreshold, NoKnee, choose_threshold};
 
@@ -333,13 +337,24 @@ pub fn extract_with_progress(
 
     let noise_measured = options.curvature.estimator == Estimator::JetFit;
     let skip = options.smooth_only_noisy && noise_measured && curvature.extremality_noise == 0.0;
+    // The lines are moved back by the wide fit's bias, and by the smoothing's drift
+    // (measured by the smoothing), when the fit found the surface noisy.
+    let debias = options.debias_lines && noise_measured && curvature.extremality_noise > 0.0;
     if options.smoothing.steps > 0 && !skip {
         let t = clock.begin(Stage::ExtremalitySmoothing);
+        let smoothing = if debias {
+            Cow::Owned(ExtremalitySmoothing {
+                measure_drift: true,
+                ..options.smoothing.clone()
+            })
+        } else {
+            Cow::Borrowed(&options.smoothing)
+        };
         match split {
             Some(creases) => {
-                smooth_extremalities_split(surface, &mut curvature, &options.smoothing, creases)?
+                smooth_extremalities_split(surface, &mut curvature, &smoothing, creases)?
             }
-            None => smooth_extremalities(surface, &mut curvature, &options.smoothing)?,
+            None => smooth_extremalities(surface, &mut curvature, &smoothing)?,
         }
         clock.end(Stage::ExtremalitySmoothing, t);
     }
@@ -373,11 +388,7 @@ pub fn extract_with_progress(
     let mut lines = filter_lines(traced, &filter, diagonal);
     clock.end(Stage::Filtering, t);
 
-    let fit_is_wide = noise_measured && curvature.extremality_noise > 0.0;
-    if options.debias_lines
-        && fit_is_wide
-        && let Some(report) = curvature.jet_fit
-    {
+    if debias && let Some(report) = curvature.jet_fit {
         let t = clock.begin(Stage::Debiasing);
         let radius = report.radius * report.spacing;
         stats.debias = debias_crest_lines(surface, &curvature, &mut lines, radius);

@@ -574,6 +574,8 @@ mod tests {
             simulated_noise: Default::default(),
             alternative_extremalities: Default::default(),
             one_sided: Vec::new(),
+            smoothing_drift: Default::default(),
+            smoothing_drift_noise: Default::default(),
             jet_fit: None,
         };
         let mut saliency = vec![0.1; n];
