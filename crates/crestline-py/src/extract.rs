@@ -49,7 +49,8 @@ use crestline::curvature::Estimator;
 /// - `fair`: spatial fairing, largest displacement as a fraction of the diagonal (off).
 /// - `no_debias`: leave the crest lines where they are traced. By default, on
 ///   meshes the jet fit finds noisy, they are moved across by the displacement its widened
-///   disc causes and by the drift the extremality smoothing measures of itself.
+///   disc causes and, on white noise, by the drift the extremality smoothing measures of
+///   itself.
 /// - `keep_unlocated`: keep the lines the noise moves about, and their ends (HPW and YBS
 ///   with the jet fit only). By default, on meshes the jet fit finds white noise on, they
 ///   drop the lines whose extremality crosses zero less than twice as steeply as its

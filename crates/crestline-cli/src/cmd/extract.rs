@@ -142,8 +142,8 @@ pub struct Args {
     /// Leave the crest lines where the traced zeros of the extremalities are. By
     /// default, on meshes the curvature fit finds noisy (its disc is then wide), they are
     /// moved across by the displacement that disc is known to cause (a correction of second
-    /// order in its radius) and by the drift of the extremality smoothing (measured by
-    /// applying it once more; nothing moves on clean meshes)
+    /// order in its radius) and, on white noise, by the drift of the extremality smoothing
+    /// (measured by applying it once more; nothing moves on clean meshes)
     #[arg(long)]
     pub no_debias: bool,
     /// Accepted for scripts written when the correction was opt-in; it is the default now

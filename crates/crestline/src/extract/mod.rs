@@ -13,8 +13,8 @@
 //!
 //! Between 6 and 7 ([`ExtractOptions::debias_lines`], on by default), on surfaces the jet
 //! fit found noisy, the crest lines are moved across by the displacement the fit's widened
-//! disc causes and by the drift the extremality smoothing measured of itself
-//! ([`crate::lines::debias`]); so are the saliency method's, which are crest lines too
+//! disc causes and, where the noise is white, by the drift the extremality smoothing
+//! measured of itself ([`crate::lines::debias`]); so are the saliency method's, which are crest lines too
 //! (linked crest points).
 //!
 //! Before the threshold of step 6 ([`ExtractOptions::drop_unlocated_lines`], on by default),
@@ -337,12 +337,15 @@ pub fn extract_with_progress(
 
     let noise_measured = options.curvature.estimator == Estimator::JetFit;
     let skip = options.smooth_only_noisy && noise_measured && curvature.extremality_noise == 0.0;
-    // The lines are moved back by the wide fit's bias, and by the smoothing's drift
-    // (measured by the smoothing), when the fit found the surface noisy.
+    // The lines are moved back by the wide fit's bias when the fit found the surface noisy,
+    // and by the smoothing's drift (measured by the smoothing) when that noise is white: where
+    // the residual is mostly surface the fit does not follow (scans, subdivided models), the
+    // drift is that detail, which the smoothing is there to take out (`lines::debias`).
     let debias = options.debias_lines && noise_measured && curvature.extremality_noise > 0.0;
+    let white_noise = curvature.jet_fit.is_some_and(|r| r.white_noise());
     if options.smoothing.steps > 0 && !skip {
         let t = clock.begin(Stage::ExtremalitySmoothing);
-        let smoothing = if debias {
+        let smoothing = if debias && white_noise {
             Cow::Owned(ExtremalitySmoothing {
                 measure_drift: true,
                 ..options.smoothing.clone()
@@ -375,7 +378,6 @@ pub fn extract_with_progress(
     stats.lines_traced = traced.lines.len();
 
     let t = clock.begin(Stage::Filtering);
-    let white_noise = curvature.jet_fit.is_some_and(|r| r.white_noise());
     let crest_pipeline = !matches!(options.pipeline, Pipeline::Saliency(_));
     let locate = options.drop_unlocated_lines && white_noise && crest_pipeline;
     if let (true, Some(report)) = (locate, curvature.jet_fit) {

@@ -93,7 +93,8 @@ pub struct ExtremalitySmoothing {
     /// in [`Curvature::smoothing_drift`] and [`Curvature::smoothing_drift_noise`] for
     /// [`crate::lines::debias`]. Costs the steps once more (twice with twicing) on the
     /// extremalities and on their simulated noise, both solved to [`DRIFT_TOLERANCE`].
-    /// [`crate::extract`] turns it on when it will move the lines back. Off, the drift
+    /// [`crate::extract`] turns it on when it will move the lines back and the jet fit found
+    /// the noise white ([`crate::lines::debias`], *Smoothing drift*). Off, the drift
     /// fields are emptied (a drift measured by an earlier smoothing would be stale).
     ///
     /// Default: false.
