@@ -76,36 +76,35 @@
 //! 8.77 --no-noise-adaptation [--smooth-steps 0]"`): F1 0.903 without the smoothing, 0.826
 //! with it. The smoothing's move is not known in closed form, but the smoothing can be
 //! applied again: the change d it makes to the smoothed field ([`Curvature::smoothing_drift`],
-//! measured by the smoothing when [`crate::extract`] is to move the lines and the fit found
-//! the noise white, below) moves the traced
-//! zero again by `−d / ∂ₜe`, so the zero before smoothing lies about `d / ∂ₜe` further along
-//! v. That is a lower estimate: applied to an already smoothed profile, whose bend the first
-//! pass softened, the smoothing moves it less than it moved the raw one (about half where the
-//! profile bends within two spacings; unit test in `smoothing::extremality`). d is fitted as
-//! e is (step 1; its value at p), averaged alike (step 2), and `c̄_d / c̄₁` is added to δ,
-//! shrunk by the positive part of `1 − var(c̄_d) / c̄_d²` (the shrinkage of James and Stein's
-//! estimator, for this one value; the variance from the drift of the simulated noise,
-//! [`Curvature::smoothing_drift_noise`], as in step 3; the slope's is left to step 3's
-//! factor). The Wiener factor of step 3 let more noise through: on noisy ovoids and ridges
-//! made like the public ones it cost up to 0.03 F1 where this costs up to 0.021. Fitting the
-//! unsmoothed extremalities' profile instead of d finds all of the move, with their noise
-//! (the noisy ridges made alike lost up to 0.058). The moves are then kept from folding the
-//! line (step 4): on the shared scans the corrected lines had turned back on themselves at 1
-//! to 4 segments (the bunny, igea, the horse, the rocker arm; 1 and 2 of them, igea and the
-//! horse, with the fit's bias alone). Measured
-//! (`score.py`, default settings): `bumpy/noisy20k` HPW 0.806 → 0.846, YBS 0.811 → 0.848,
-//! saliency 0.804 → 0.842, `ridge/noisy20k` 0.969 → 0.963 (the clean bumps above 0.826 →
-//! 0.881 while the drift was measured on any noise); 36 noisy surfaces made alike (the public reg20k and irr20k moved along their exact
-//! normals by 0.05 to 0.1 of the mean edge, other seeds), HPW mean 0.889 → 0.899: the bumpy
-//! spheres +0.024 to +0.084, the ovoids −0.029 to 0, the ridges −0.021 to 0, the
-//! superquadrics unchanged (YBS alike); 56 noisy CAD parts made alike (`score_cad.py`) −0.012
-//! to +0.003 (the least, the rounded box, whose fillets' tangent seams carry crest lines).
+//! measured by the smoothing when [`crate::extract`] is to move the lines and the fit found the
+//! noise white, below) moves the traced zero again by `−d / ∂ₜe`, so the zero before smoothing
+//! lies about `d / ∂ₜe` further along v. That is a lower estimate: applied to an already
+//! smoothed profile, whose bend the first pass softened, the smoothing moves it less than it
+//! moved the raw one (about half where the profile bends within two spacings; unit test in
+//! `smoothing::extremality`). d is fitted as e is (step 1; its value at p), averaged alike
+//! (step 2), and `c̄_d / c̄₁` is added to δ, shrunk by the positive part of `1 − var(c̄_d) /
+//! c̄_d²` (the shrinkage of James and Stein's estimator, for this one value; the variance from
+//! the drift of the simulated noise, [`Curvature::smoothing_drift_noise`], as in step 3; the
+//! slope's is left to step 3's factor). The Wiener factor of step 3 let more noise through: on
+//! noisy ovoids and ridges made like the public ones it cost up to 0.03 F1 where this costs up
+//! to 0.021. Fitting the unsmoothed extremalities' profile instead of d finds all of the move,
+//! with their noise (the noisy ridges made alike lost up to 0.058). Measured (`score.py`,
+//! default settings): `bumpy/noisy20k` HPW 0.806 → 0.846, YBS 0.811 → 0.848, saliency 0.804 →
+//! 0.842, `ridge/noisy20k` 0.969 → 0.963; 36 noisy surfaces made alike (the public reg20k and
+//! irr20k moved along their exact normals by 0.05 to 0.1 of the mean edge, other seeds), HPW
+//! mean 0.889 → 0.899: the bumpy spheres +0.024 to +0.084, the ovoids −0.029 to 0, the ridges
+//! −0.021 to 0, the superquadrics unchanged (YBS alike); 56 noisy CAD parts made alike
+//! (`score_cad.py`) −0.012 to +0.003 (the least, the rounded box, whose fillets' tangent seams
+//! carry crest lines).
 //! *Only on white noise* ([`crate::curvature::jet_fit::JetFitReport::white_noise`]): where the
-//! fit's residual is mostly surface it does not follow (scans, subdivided models), the drift
-//! is that surface's detail, which the smoothing is there to take out, and the lines it moves
-//! back follow the detail: the total turning of the lines of horse ×16 (Loop subdivision,
-//! whose curvature ripples at the scale of the coarse edges) grew by 34%, igea's and the
-//! bunny's by 2%, and the drift cost horse ×16's smoothing 1.9 → 2.7 s.
+//! fit's residual is mostly surface it does not follow (scans, subdivided models), the drift is
+//! that surface's detail, which the smoothing is there to take out, and the lines it moves back
+//! follow the detail: measured on every noisy mesh, the total turning of the lines of horse ×16
+//! (Loop subdivision, whose curvature ripples at the scale of the coarse edges) grew by 34%,
+//! igea's and the bunny's by 2%, and the drift cost horse ×16's smoothing 1.9 → 2.7 s. The
+//! moves are kept from folding the line (step 4): with the drift on the shared scans their
+//! corrected lines turned back at 1 to 4 segments (the bunny, igea, the horse, the rocker arm),
+//! with the fit's bias alone at 1 and 2 (igea, the horse).
 //!
 //! **Measured** (`../shared/quality/score.py`, default HPW; YBS alike): `bumpy/noisy20k`
 //! F1 0.466 → 0.710 (median distance of the ridges to the exact ones 1.08 → 0.72
