@@ -14,8 +14,8 @@
 //! Between 6 and 7 ([`ExtractOptions::debias_lines`], on by default), on surfaces the jet
 //! fit found noisy, the crest lines are moved across by the displacement the fit's widened
 //! disc causes and, where the noise is white, by the drift the extremality smoothing
-//! measured of itself ([`crate::lines::debias`]); so are the saliency method's, which are crest lines too
-//! (linked crest points).
+//! measured of itself ([`crate::lines::debias`]); so are the saliency method's, which are
+//! crest lines too (linked crest points).
 //!
 //! Before the threshold of step 6 ([`ExtractOptions::drop_unlocated_lines`], on by default),
 //! on surfaces whose noise the jet fit finds white, the HPW and YBS lines whose extremality

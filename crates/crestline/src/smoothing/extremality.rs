@@ -333,8 +333,8 @@ fn run_steps(
 /// The drift is a correction, a few percent of the smoothed field where lines run: measured on
 /// the public noisy bumps, ridge and ovoid, solving to 1e-3 instead of the solver's own 1e-5
 /// changes it by 0.2 to 0.4% of its RMS and the corrected lines' points by at most 6e-5 model
-/// units (igea 2e-5, of a diagonal of 0.16), for 40% of its cost (igea's smoothing stage
-/// 0.41 → 0.65 s at 1e-5, 0.56 s at 1e-3).
+/// units (igea 2e-5, of a diagonal of 0.16, when the drift was measured on scans too), for 40%
+/// of its cost (igea's smoothing stage 0.41 → 0.65 s at 1e-5, 0.56 s at 1e-3).
 pub const DRIFT_TOLERANCE: f64 = 1e-3;
 
 /// The relative residual to which the steps on the simulated noise are solved (where the
