@@ -249,6 +249,9 @@ pub struct DebiasReport {
     pub moved: usize,
     /// The median distance they moved (model units); 0 when none moved.
     pub median_shift: f64,
+    /// Of the points moved, those whose move includes the smoothing's drift (module docs,
+    /// *Smoothing drift*; 0 unless the smoothing measured it).
+    pub with_drift: usize,
 }
 
 /// Moves the points of the crest lines in `lines` across the lines by the bias of a jet fit
@@ -267,22 +270,25 @@ pub fn debias_crest_lines(
     let context = Context::new(mesh, curvature, radius);
     let shared = shared_ends(lines);
     // Each line reads only itself, the fields and the shared ends (taken before any move).
-    let mut shifts: Vec<f64> = lines
+    // Per point moved: how far, and whether the drift was part of the move.
+    let moves: Vec<(f64, bool)> = lines
         .lines
         .par_iter_mut()
         .filter(|l| !l.crease && l.points.len() >= 3)
         .flat_map_iter(|line| {
-            let mut shifts = Vec::new();
-            context.debias_line(line, &shared, &mut shifts);
+            let mut moves = Vec::new();
+            context.debias_line(line, &shared, &mut moves);
             let zeros = vec![0.0; line.points.len()];
             line.length = integrate(&line.points, &zeros, &zeros, line.closed).0;
-            shifts
+            moves
         })
         .collect();
+    let mut shifts: Vec<f64> = moves.iter().map(|m| m.0).collect();
     shifts.sort_by(f64::total_cmp);
     DebiasReport {
         moved: shifts.len(),
         median_shift: shifts.get(shifts.len() / 2).copied().unwrap_or(0.0),
+        with_drift: moves.iter().filter(|m| m.1).count(),
     }
 }
 
@@ -367,7 +373,7 @@ impl<'a> Context<'a> {
         &self,
         line: &mut FeatureLine,
         shared: &HashMap<[u64; 3], usize>,
-        out: &mut Vec<f64>,
+        out: &mut Vec<(f64, bool)>,
     ) {
         let n = line.points.len();
         let arc = arc_lengths(&line.points, line.closed);
@@ -415,8 +421,10 @@ impl<'a> Context<'a> {
         let bend_variance = means.clone().map(|p| p.noise_bend.powi(2)).sum::<f64>() / count;
         let slope_variance = means.clone().map(|p| p.noise_slope.powi(2)).sum::<f64>() / count;
         let drift_variance = means.map(|p| p.noise_drift.powi(2)).sum::<f64>() / count;
-        // Each point's move (zero where it stays), before the fold guard of step 4.
+        // Each point's move (zero where it stays), before the fold guard of step 4, and
+        // whether the smoothing's drift is part of it.
         let mut moves = vec![Vec3::zeros(); n];
+        let mut with_drift = vec![false; n];
         for k in 0..n {
             let (Some(here), Some(mean)) = (profiles[k], pooled[k]) else {
                 continue;
@@ -448,6 +456,7 @@ impl<'a> Context<'a> {
             if mean.drift != 0.0 {
                 let shrink = (1.0 - relative(drift_variance, mean.drift)).max(0.0);
                 shift += mean.drift / mean.slope * shrink;
+                with_drift[k] = shrink > 0.0;
             }
             let limit = MAX_SHIFT * self.radius;
             let shift = shift.clamp(-limit, limit);
@@ -464,7 +473,7 @@ impl<'a> Context<'a> {
             let Some(landing) = self.faces.closest_point(line.points[k] + step) else {
                 continue;
             };
-            out.push((landing.point - line.points[k]).norm());
+            out.push(((landing.point - line.points[k]).norm(), with_drift[k]));
             moved[k] = landing.point;
             if let Some(location) = locations.get_mut(k) {
                 *location = SurfacePoint::Face { face: landing.face };
