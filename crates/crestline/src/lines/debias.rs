@@ -421,6 +421,14 @@ impl<'a> Context<'a> {
         let bend_variance = means.clone().map(|p| p.noise_bend.powi(2)).sum::<f64>() / count;
         let slope_variance = means.clone().map(|p| p.noise_slope.powi(2)).sum::<f64>() / count;
         let drift_variance = means.map(|p| p.noise_drift.powi(2)).sum::<f64>() / count;
+        // A variance relative to a squared value; no variance is none relative to a zero value.
+        let relative = |variance: f64, value: f64| {
+            if variance > 0.0 {
+                variance / (value * value)
+            } else {
+                0.0
+            }
+        };
         // Each point's move (zero where it stays), before the fold guard of step 4, and
         // whether the smoothing's drift is part of it.
         let mut moves = vec![Vec3::zeros(); n];
@@ -441,14 +449,7 @@ impl<'a> Context<'a> {
                 continue;
             }
             // Relative variance of the ratio bend / slope (to first order), and the Wiener
-            // factor 1 / (1 + that); no variance is none relative to a zero value either.
-            let relative = |variance: f64, value: f64| {
-                if variance > 0.0 {
-                    variance / (value * value)
-                } else {
-                    0.0
-                }
-            };
+            // factor 1 / (1 + that).
             let ratio = relative(bend_variance, mean.bend) + relative(slope_variance, mean.slope);
             let mut shift = scale * mean.bend / mean.slope / (1.0 + ratio);
             // The smoothing's drift (module docs, *Smoothing drift*), where it stands clear of
