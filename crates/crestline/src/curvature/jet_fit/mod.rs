@@ -579,11 +579,16 @@ impl Blend {
     }
 }
 
-/// Crease edges and the vertices on them.
+/// Crease edges, the vertices on them and the widest side of each
+/// ([`crate::mesh::widest_side`], found once: a disc that grows gathers it again).
 struct Split<'a> {
     edges: &'a [bool],
     vertices: Vec<bool>,
     any: bool,
+    /// The faces of vertex v's widest side are `side_faces[side_offsets[v]..side_offsets[v + 1]]`
+    /// (none for a vertex off the creases; both empty without creases).
+    side_offsets: Vec<u32>,
+    side_faces: Vec<u32>,
 }
 
 impl<'a> Split<'a> {
@@ -602,11 +607,39 @@ impl<'a> Split<'a> {
             vertices[b as usize] = true;
         }
         let any = edges.iter().any(|&c| c);
+        let (mut side_offsets, mut side_faces) = (Vec::new(), Vec::new());
+        if any {
+            let on_creases: Vec<u32> = (0..mesh.num_vertices() as u32)
+                .filter(|&v| vertices[v as usize])
+                .collect();
+            let sides: Vec<Vec<u32>> = on_creases
+                .par_iter()
+                .map(|&v| crate::mesh::widest_side(mesh, v, edges))
+                .collect();
+            side_offsets = vec![0u32; mesh.num_vertices() + 1];
+            let mut sides = on_creases.iter().zip(&sides).peekable();
+            for v in 0..mesh.num_vertices() {
+                let mut end = side_offsets[v];
+                if let Some((_, side)) = sides.next_if(|(c, _)| **c as usize == v) {
+                    side_faces.extend_from_slice(side);
+                    end = side_faces.len() as u32;
+                }
+                side_offsets[v + 1] = end;
+            }
+        }
         Ok(Split {
             edges,
             vertices,
             any,
+            side_offsets,
+            side_faces,
         })
+    }
+
+    /// The faces of the widest side of crease vertex `v` ([`crate::mesh::widest_side`]).
+    fn widest_side(&self, v: u32) -> &[u32] {
+        let v = v as usize;
+        &self.side_faces[self.side_offsets[v] as usize..self.side_offsets[v + 1] as usize]
     }
 }
 
@@ -796,6 +829,11 @@ impl Context<'_> {
         }
         let grown = self.grow_disc(v, radius, s);
         let mut on_triangles = self.needs_triangle_samples(v, grown, s);
+        // A probe of the noise reads only the residual, which a disc sampled on its triangles
+        // does not have (below): its fits are not made.
+        if on_triangles && self.residual {
+            return fallback(self.normals[v as usize]);
+        }
         let p = self.mesh.position(v);
         let Some((mut n0, mut first, mut r)) =
             self.first_fit(v, p, [radius, grown], on_triangles, s)
@@ -810,6 +848,9 @@ impl Context<'_> {
                 .is_none_or(|fit| fit.conditioning < ILL_POSED)
         {
             on_triangles = true;
+            if self.residual {
+                return fallback(self.normals[v as usize]);
+            }
             let Some(refit) = self.first_fit(v, p, [radius, grown], on_triangles, s) else {
                 return fallback(self.normals[v as usize]);
             };
@@ -957,9 +998,8 @@ impl Context<'_> {
     /// crease vertex `v` ([`crate::mesh::widest_side`]). Sets the side's area normal.
     fn seed_side(&self, v: u32, split: &Split<'_>, r2: f64, s: &mut Scratch) {
         let p = self.mesh.position(v);
-        let side = crate::mesh::widest_side(self.mesh, v, split.edges);
         let stamp = s.stamp;
-        for f in side {
+        for &f in split.widest_side(v) {
             let [a, b, c] = self.mesh.triangle(f as usize);
             s.side_normal += (b - a).cross(&(c - a)) / 6.0;
             for q in self.mesh.faces()[f as usize] {
@@ -1061,6 +1101,30 @@ mod tests {
             assert!(c.e_max[v].abs() < 1e-2 && c.e_min[v].abs() < 1e-2);
         }
         assert_eq!(c.fallback_vertices, 0);
+    }
+
+    #[test]
+    fn the_widest_sides_found_once_are_those_of_each_crease_vertex() {
+        // A cube of bulging faces: creases along its edges, corners where three meet.
+        let (mesh, _) = shapes::pillow_box(1.0, 0.2, 6);
+        let angles = crate::lines::crease::dihedral_angles(&mesh);
+        let edges: Vec<bool> = angles.iter().map(|&a| a > 0.5).collect();
+        let split = Split::new(&mesh, &edges).unwrap();
+        assert!(split.any);
+        let mut on_creases = 0;
+        for v in 0..mesh.num_vertices() as u32 {
+            if split.vertices[v as usize] {
+                on_creases += 1;
+                assert_eq!(
+                    split.widest_side(v),
+                    crate::mesh::widest_side(&mesh, v, &edges)
+                );
+                assert!(!split.widest_side(v).is_empty());
+            } else {
+                assert!(split.widest_side(v).is_empty());
+            }
+        }
+        assert!(on_creases > 0);
     }
 
     #[test]

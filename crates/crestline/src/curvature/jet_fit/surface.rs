@@ -21,7 +21,7 @@
 //! mesh that samples the surface in both directions never takes this path: its results are
 //! those of vertex sampling. The fit's residual does not count towards the noise level
 //! there: pieces of flat triangles are off a curved surface by the tessellation's chord
-//! error, which is not noise.
+//! error, which is not noise (the probe of the noise level does not fit such discs at all).
 //!
 //! **How.** The triangles are found breadth-first from the centre's triangles across edges
 //! that are not creases, keeping those that come within the radius of the centre. Each is
@@ -33,7 +33,11 @@
 //! takes about 16 pieces of it whatever its length, where the regular subdivision into m²
 //! congruent triangles (m = ⌈4 L / r⌉, used before) left 16 L / r pieces of it in the disc,
 //! and as many slivers cross a disc on a fan as its rim has segments near it: the
-//! triangles' number squared in all (a capped cylinder of 2048 segments took 9 s).
+//! triangles' number squared in all (a capped cylinder of 2048 segments took 9 s). A sliver's
+//! pieces are integrated in closed form ([`slab_piece`]) rather than clipped. A disc on a fan
+//! still takes about 16 pieces of every sliver that crosses it, so the time there grows
+//! faster than the triangles (`bench/quality/slivers.py`: a capped cylinder of 8192 segments,
+//! 32,768 triangles, 6.8 s in all; BENCHMARKS.md, *Fans and strips of slivers*).
 
 #[cfg(doc)]
 use super::JetFitOptions;
@@ -138,8 +142,7 @@ impl Context<'_> {
         s.faces.clear();
         match self.split {
             Some(split) if split.vertices[v as usize] => {
-                s.faces
-                    .extend(crate::mesh::widest_side(self.mesh, v, split.edges))
+                s.faces.extend_from_slice(split.widest_side(v))
             }
             _ => s.faces.extend_from_slice(topo.vertex_faces(v)),
         }
@@ -244,7 +247,13 @@ fn cut_triangle(
         let last = near.end.min(((right / hx).ceil() as usize).max(1));
         for i in first..last {
             let (x0, x1) = (i as f64 * hx, (i + 1) as f64 * hx);
-            let Some((piece, [x, y])) = clip_cell([x0, x1], [y0, y1], length, [cx, cy]) else {
+            // A triangle of one row (a sliver narrower than a cell) in closed form.
+            let cut = if rows == 1.0 {
+                slab_piece([x0, x1], length, [cx, cy])
+            } else {
+                clip_cell([x0, x1], [y0, y1], length, [cx, cy])
+            };
+            let Some((piece, [x, y])) = cut else {
                 continue;
             };
             let (dx, dy) = (x - px, y - py);
@@ -264,6 +273,35 @@ fn cut_triangle(
         }
     }
     weight
+}
+
+/// The area and centroid of the part of the triangle (0, 0), (L, 0), (cx, cy) between x = x0
+/// and x = x1 (`None` if it has no area; x1 may pass L by rounding): what [`clip_cell`] gives
+/// for a cell as high as the triangle, integrated in closed form over the two linear pieces of
+/// its upper boundary (the slivers of a CAD fan and strip, narrower than a cell, are all of
+/// one row: clipping their cells was most of the time spent on them).
+fn slab_piece([x0, x1]: [f64; 2], length: f64, [cx, cy]: [f64; 2]) -> Option<(f64, [f64; 2])> {
+    let (mut area, mut mx, mut my) = (0.0, 0.0, 0.0);
+    // Over [s, t], where the boundary goes linearly from height h0 to h1: the area under it
+    // and its moments about x = 0 and y = 0.
+    let mut add = |s: f64, t: f64, [h0, h1]: [f64; 2]| {
+        let w = t - s;
+        let a = w * (h0 + h1) / 2.0;
+        area += a;
+        mx += s * a + w * w * (h0 + 2.0 * h1) / 6.0;
+        my += w * (h0 * h0 + h0 * h1 + h1 * h1) / 6.0;
+    };
+    // Left of the third corner the boundary rises, right of it it falls (each part has
+    // length only where its side has: cx > 0, cx < L); heights from ratios within [0, 1].
+    let (s, t) = (x0, x1.min(cx));
+    if t > s {
+        add(s, t, [s, t].map(|x| cy * (x / cx)));
+    }
+    let (s, t) = (x0.max(cx), x1.min(length));
+    if t > s {
+        add(s, t, [s, t].map(|x| cy * ((length - x) / (length - cx))));
+    }
+    (area > 0.0).then(|| (area, [mx / area, my / area]))
 }
 
 /// The area and centroid of the cell `[x0, x1] × [y0, y1]` (y0 ≥ 0) clipped by the triangle
@@ -427,7 +465,59 @@ mod tests {
                 "trial {trial}"
             );
             all.retain(|(x, _)| (x - p).norm_squared() < r * r);
-            assert_eq!(visited, all, "trial {trial}");
+            // The same pieces in the same order; those of one row are integrated in closed
+            // form rather than clipped (`slab_piece`): equal up to rounding.
+            assert_eq!(visited.len(), all.len(), "trial {trial}");
+            for ((x, area), (y, expected)) in visited.iter().zip(&all) {
+                assert!((x - y).norm() <= 1e-12 * size, "trial {trial}");
+                assert!((area - expected).abs() <= 1e-12 * expected, "trial {trial}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_slab_of_a_triangle_in_closed_form_is_the_clipped_cell() {
+        let mut uniform = random_numbers();
+        for trial in 0..1000 {
+            let length = 0.01 + 10.0 * uniform();
+            // The third corner anywhere above the longest side, at either end too.
+            let cx = match trial % 7 {
+                0 => 0.0,
+                1 => length,
+                // A corner all but above an end of the longest side.
+                2 => length * 1e-300,
+                3 => length * (1.0 - f64::EPSILON),
+                _ => length * uniform(),
+            };
+            let cy = length * (1e-4 + uniform());
+            let (mut x0, mut x1) = (length * uniform(), length * uniform());
+            if x0 > x1 {
+                (x0, x1) = (x1, x0);
+            }
+            if trial % 5 == 0 {
+                (x0, x1) = (0.0, length);
+            }
+            if trial % 11 == 0 {
+                // The last column of `cut_triangle` can end an ulp past the triangle.
+                x1 = length * (1.0 + f64::EPSILON);
+            }
+            let slab = slab_piece([x0, x1], length, [cx, cy]);
+            let clipped = clip_cell([x0, x1], [0.0, cy], length, [cx, cy]);
+            match (slab, clipped) {
+                (Some((a, [x, y])), Some((b, [u, v]))) => {
+                    assert!((a - b).abs() <= 1e-12 * b, "trial {trial}: {a} {b}");
+                    assert!((x - u).abs() <= 1e-12 * length, "trial {trial}");
+                    assert!((y - v).abs() <= 1e-12 * length, "trial {trial}");
+                    if x0 == 0.0 && x1 >= length {
+                        // The whole triangle: its area and centroid.
+                        assert!((a - length * cy / 2.0).abs() <= 1e-12 * a, "trial {trial}");
+                        assert!((x - (length + cx) / 3.0).abs() <= 1e-12 * length);
+                        assert!((y - cy / 3.0).abs() <= 1e-12 * length);
+                    }
+                }
+                (None, None) => assert!(x1 - x0 <= 1e-12 * length, "trial {trial}"),
+                other => panic!("trial {trial}: {other:?}"),
+            }
         }
     }
 
