@@ -99,7 +99,7 @@ pub struct Curvature {
     pub alternative_extremalities: [Vec<f64>; 2],
     /// Per vertex, whether the jet fit's disc reached the mesh boundary: a one-sided fit, with
     /// another bias and more noise than a full disc's
-    /// ([`jet_fit::one_sided_vertices`](crate::curvature::jet_fit::one_sided_vertices)).
+    /// ([`jet_fit::one_sided_vertices`]).
     /// Empty for the other estimators and for meshes without a boundary.
     pub one_sided: Vec<bool>,
     /// Per vertex, what one more application of the extremality smoothing changes the

@@ -352,7 +352,7 @@ impl ExtractOptions {
     /// not NaN nor +∞), a fairing tolerance that is finite
     /// and not negative, a smoothing time step above 0 and at most 1e6 (beyond, one step
     /// would smooth across any mesh and the solver loses precision) and a crease angle from 0
-    /// to π. [`crate::extract()`] checks them first.
+    /// to π. [`extract()`](crate::extract::extract) checks them first.
     ///
     /// # Errors
     /// [`Error::InvalidInput`] naming the first value out of range.

@@ -22,7 +22,7 @@
 //! their conjugacy and use up the iterations at a residual just above the tolerance. A step
 //! that fails in mixed precision is taken again, from its best iterate, by the reference
 //! solver of [`super::system`] (double precision, the matrices assembled from these rows;
-//! [`ConnectionSystem::double_precision_step`]), which converges there, and so is every later
+//! `ConnectionSystem::double_precision_step`), which converges there, and so is every later
 //! step of the same system (each attempt would use up the iterations first); an error is
 //! returned only when that fails too.
 //!
