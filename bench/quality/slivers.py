@@ -12,7 +12,8 @@ Writes, as OBJ files:
 - ngon-3000.obj: a disc given as one face of 3,000 corners (readers triangulate it as a fan).
 
 The jet fit samples such discs on their triangles (`curvature/jet_fit/surface.rs`); time them
-with `crestline extract MESH -o lines.obj --stats` (`time curvature`).
+with `/usr/bin/time crestline extract MESH -o lines.obj -q` (BENCHMARKS.md's table: wall seconds
+of the whole run; `--stats` gives the stages, the curvature stage is most of it).
 """
 import math
 import sys

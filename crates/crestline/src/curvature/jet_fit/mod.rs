@@ -898,9 +898,9 @@ impl Context<'_> {
     /// radius of the disc gathered.
     fn grow_disc(&self, v: u32, radius: f64, s: &mut Scratch) -> f64 {
         let mut r = radius;
-        for _ in 0..5 {
+        for grown in 0..=MAX_GROWTH {
             self.gather_disc(v, r, s);
-            if s.disc.len() >= self.options.min_points {
+            if s.disc.len() >= self.options.min_points || grown == MAX_GROWTH {
                 break;
             }
             r *= 1.5;
@@ -1061,6 +1061,11 @@ impl Context<'_> {
     }
 }
 
+/// How many times a disc grows by half, at most, for want of vertices ([`Context::grow_disc`]).
+/// (Until 2026-11-27 the radius grew once more after the last gather: the fit then weighed
+/// the disc of 1.5⁴ radii with the kernel of 1.5⁵.)
+const MAX_GROWTH: usize = 4;
+
 /// [`polynomial::Fit::conditioning`] below which a disc sampled at its vertices is sampled
 /// on its triangles instead.
 const ILL_POSED: f64 = 1e-8;
@@ -1101,6 +1106,44 @@ mod tests {
             assert!(c.e_max[v].abs() < 1e-2 && c.e_min[v].abs() < 1e-2);
         }
         assert_eq!(c.fallback_vertices, 0);
+    }
+
+    #[test]
+    fn a_disc_short_of_vertices_is_weighed_at_the_radius_it_was_gathered_at() {
+        // An octahedron has 6 vertices, fewer than a disc wants (24): every disc grows to its
+        // largest and stays short. The radius returned is the one gathered, and the disc holds
+        // exactly the vertices within it.
+        let mesh = shapes::octahedron();
+        let (areas, normals) = (vertex_areas(&mesh), crate::mesh::vertex_normals_area(&mesh));
+        let (keys, neighbours) = (probe_keys(&mesh), Neighbours::new(&mesh));
+        let context = Context {
+            mesh: &mesh,
+            areas: &areas,
+            normals: &normals,
+            spacing: sample_spacing(&mesh),
+            options: &JetFitOptions::DEFAULT,
+            split: None,
+            residual: false,
+            keys: &keys,
+            neighbours: &neighbours,
+            blend: None,
+        };
+        let mut s = Scratch::default();
+        // A radius whose largest growth (1.5⁴ ≈ 5.06 times) reaches the four neighbours of a
+        // vertex (at √2) but not the opposite one (at 2), and the next growth would.
+        let radius = 1.6 / 1.5f64.powi(4);
+        let r = context.grow_disc(0, radius, &mut s);
+        let largest = (0..MAX_GROWTH).fold(radius, |r, _| r * 1.5);
+        assert_eq!(r, largest);
+        let p = mesh.position(0);
+        let mut inside: Vec<u32> = (0..6)
+            .filter(|&q| (mesh.position(q) - p).norm() < r)
+            .collect();
+        let mut disc = s.disc.clone();
+        disc.sort_unstable();
+        inside.sort_unstable();
+        assert_eq!(disc, inside);
+        assert_eq!(disc.len(), 5);
     }
 
     #[test]

@@ -109,7 +109,7 @@ impl Context<'_> {
     /// triangulation at the mesh's sample spacing h (`√3/2 h²` each). A disc at a boundary
     /// grows as its vertex disc did; a disc on a fan, whose vertices are all on its rim, no
     /// longer grows for want of vertices where its triangles cover enough (a rim vertex of
-    /// a capped cylinder grew to 7.6 times the radius, over the whole cap). Returns the
+    /// a capped cylinder grew to its largest radius, over the whole cap). Returns the
     /// samples' kernel-weighted area normal and the radius sampled.
     pub(super) fn sample_triangle_disc(
         &self,
