@@ -232,7 +232,9 @@ impl Lines {
     /// noisy mesh), the
     /// bounding-box `diagonal`, the model `scale` that relative lengths are fractions of (the
     /// diagonal of the largest connected component), threshold, seconds per stage; `jet_fit`: the sample spacing, the radius in spacings, the noise level and
-    /// its standard deviation in spacings and the quartic weight the fit chose, `None` for
+    /// its standard deviation in spacings, the quartic weight the fit chose and
+    /// `triangle_sampled_vertices`, the vertices fitted on the mesh's triangles (long thin
+    /// triangles of CAD fans and strips), `None` for
     /// the other estimators); `None` for lines read from a file or sliced out of others. A
     /// copy each time.
     #[getter]
@@ -306,6 +308,7 @@ fn stats_dict<'py>(
             fit.set_item("quartic_weight", j.quartic_weight)?;
             fit.set_item("noise_growth", j.noise_growth)?;
             fit.set_item("white_noise", j.white_noise())?;
+            fit.set_item("triangle_sampled_vertices", j.triangle_sampled)?;
             Some(fit)
         }
         None => None,

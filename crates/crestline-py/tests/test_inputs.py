@@ -544,3 +544,19 @@ def test_triangles_given_twice_are_dropped(fandisk):
     twice = crestline.extract(vertices, np.vstack([faces, faces[:, ::-1]]))
     assert len(twice) == len(once)
     np.testing.assert_array_equal(twice.points, once.points)
+
+
+def test_stats_count_the_vertices_fitted_on_the_triangles():
+    # An open cylinder as CAD exporters write it, one strip of triangles as long as it: every
+    # disc is a row of vertices along a rim and is sampled on the triangles.
+    n = 64
+    angles = 2 * np.pi * np.arange(n) / n
+    ring = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    vertices = np.concatenate([np.c_[ring, np.zeros(n)], np.c_[ring, np.full(n, 4.0)]])
+    j = np.arange(n)
+    k = (j + 1) % n
+    faces = np.concatenate([np.stack([j, k, n + k], 1), np.stack([j, n + k, n + j], 1)]).astype(np.uint32)
+    strip = crestline.extract(vertices, faces)
+    assert strip.stats["jet_fit"]["triangle_sampled_vertices"] == 2 * n
+    clean = crestline.extract(*crestline.read_mesh(case_path("ovoid/reg20k")))
+    assert clean.stats["jet_fit"]["triangle_sampled_vertices"] == 0

@@ -915,6 +915,12 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
                 "none measured".to_string()
             }
         );
+        if j.triangle_sampled > 0 {
+            out += &format!(
+                "fitted on triangles    {} vertices (discs along long thin triangles, as of CAD fans and strips: slower, no noise measured there)\n",
+                j.triangle_sampled
+            );
+        }
     }
     let times = std::iter::once(("load", io.load))
         .chain(s.stage_times.iter().map(|(stage, t)| (stage.name(), *t)))
@@ -968,6 +974,7 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
             "quartic_weight": j.quartic_weight,
             "noise_growth": j.noise_growth,
             "white_noise": j.white_noise(),
+            "triangle_sampled_vertices": j.triangle_sampled,
         })),
         "load_seconds": io.load.as_secs_f64(),
         "write_seconds": io.write.as_secs_f64(),

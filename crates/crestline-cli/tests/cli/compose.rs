@@ -684,3 +684,32 @@ fn stats_say_whether_the_noise_is_white_and_how_many_lines_it_moved_about() {
     assert!((growth - 1.0).abs() < 0.1, "{json}");
     assert!(stats["lines_unlocated"].as_u64().unwrap() > 0, "{json}");
 }
+
+#[test]
+fn stats_count_the_vertices_fitted_on_the_triangles() {
+    // An open cylinder as CAD exporters write it (one strip of triangles as long as it): every
+    // disc is a row of vertices along a rim, and is sampled on the triangles; an icosphere's
+    // never are.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("lines.obj");
+    let strip = crestline::shapes::cylinder(1.0, 4.0, 128, 1);
+    let sphere = crestline::shapes::icosphere(1.0, 3);
+    for (name, mesh, expected) in [
+        ("strip.obj", &strip, strip.num_vertices()),
+        ("sphere.obj", &sphere, 0),
+    ] {
+        let path = dir.path().join(name);
+        write_mesh(&path, mesh, Format::Obj, &WriteOptions::default()).unwrap();
+        let table = stderr(&ok(run(&["extract", s(&path), "-o", s(&out), "--stats"])));
+        assert_eq!(
+            table.contains(&format!("fitted on triangles    {expected} vertices")),
+            expected > 0,
+            "{name}: {table}"
+        );
+        let args = ["extract", s(&path), "-o", s(&out), "--stats=json", "-q"];
+        let json = String::from_utf8(ok(run(&args)).stdout).unwrap();
+        let stats: serde_json::Value = serde_json::from_str(&json).unwrap();
+        let count = stats["jet_fit"]["triangle_sampled_vertices"].as_u64();
+        assert_eq!(count, Some(expected as u64), "{name}: {json}");
+    }
+}

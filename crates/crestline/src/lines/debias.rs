@@ -954,6 +954,7 @@ mod tests {
                 sigma: 0.0,
                 quartic_weight: 1.0,
                 noise_growth: 1.0,
+                triangle_sampled: 0,
             }),
             ..Curvature::default()
         };

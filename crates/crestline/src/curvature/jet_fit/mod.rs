@@ -204,6 +204,11 @@ pub struct JetFitReport {
     /// it is surface the polynomial cannot follow, which grows with the disc
     /// ([`JetFitReport::white_noise`]). 0 where the fit found no noise (not measured).
     pub noise_growth: f64,
+    /// Vertices whose disc was sampled on the mesh's triangles rather than at its vertices
+    /// (long thin triangles: CAD fans and strips; see the module docs of
+    /// `curvature/jet_fit/surface.rs`): slower, and measuring no noise (0 on scans and on
+    /// regular, irregular and marching-cubes meshes).
+    pub triangle_sampled: usize,
 }
 
 impl JetFitReport {
@@ -336,7 +341,7 @@ pub fn jet_fit_split(
         blend,
         ..context
     };
-    let (mut curvature, mut simulated, alternative) = context.run(radius);
+    let (mut curvature, mut simulated, alternative, triangle_sampled) = context.run(radius);
     curvature.alternative_extremalities = alternative;
     curvature.one_sided = one_sided_vertices(mesh, radius * spacing);
     if noise > REFERENCE_NOISE {
@@ -352,6 +357,7 @@ pub fn jet_fit_split(
         sigma: probe.sigma / spacing.max(f64::MIN_POSITIVE),
         quartic_weight,
         noise_growth,
+        triangle_sampled,
     };
     curvature.jet_fit = Some(report);
     Ok((curvature, report))
@@ -525,6 +531,8 @@ struct VertexFit {
     /// The other model's extremalities along the estimate's directions (the estimate's own
     /// where there is none; [`Curvature::alternative_extremalities`]).
     alternative: [f64; 2],
+    /// Whether the estimate is of a disc sampled on the triangles ([`surface`]).
+    on_triangles: bool,
 }
 
 /// Everything a vertex's fit reads.
@@ -794,7 +802,7 @@ impl Context<'_> {
     /// extremalities the fits make of simulated white noise of unit standard deviation in
     /// the heights ([`simulated_noise`]) and the other model's extremalities
     /// ([`Curvature::alternative_extremalities`]).
-    fn run(&self, radius: f64) -> (Curvature, [Vec<f64>; 2], [Vec<f64>; 2]) {
+    fn run(&self, radius: f64) -> (Curvature, [Vec<f64>; 2], [Vec<f64>; 2], usize) {
         let n = self.mesh.num_vertices();
         let results: Vec<VertexFit> = (0..n as u32)
             .into_par_iter()
@@ -811,8 +819,9 @@ impl Context<'_> {
             .collect();
         let simulated = [0, 1].map(|k| results.iter().map(|r| r.noise[k]).collect());
         let alternative = [0, 1].map(|k| results.iter().map(|r| r.alternative[k]).collect());
+        let on_triangles = results.iter().filter(|r| r.on_triangles).count();
         let (curvature, _) = collect_estimates(n, || (), |_, v| results[v as usize].estimate);
-        (curvature, simulated, alternative)
+        (curvature, simulated, alternative, on_triangles)
     }
 
     /// The fit of vertex `v` ([`VertexFit`]).
@@ -822,6 +831,7 @@ impl Context<'_> {
             residual: [f64::NAN; 2],
             noise: [0.0; 2],
             alternative: [0.0; 2],
+            on_triangles: false,
         };
         let topo = self.mesh.topology();
         if topo.vertex_faces(v).is_empty() || radius.is_nan() || radius <= 0.0 {
@@ -890,6 +900,7 @@ impl Context<'_> {
             residual,
             noise,
             alternative,
+            on_triangles,
         }
     }
 
@@ -1175,7 +1186,14 @@ mod tests {
         // An open cylinder as a CAD exporter writes it: one strip of triangles as long as the
         // cylinder, every vertex on one of the two rims. Sampled at the vertices, each disc
         // is a row along a rim and the fit is singular across it (k_min was 0.15, |e| 1e5).
-        check_unit_cylinder(&shapes::cylinder(1.0, 4.0, 128, 1));
+        let strip = shapes::cylinder(1.0, 4.0, 128, 1);
+        check_unit_cylinder(&strip);
+        // The report counts them: every vertex here, none on a well-shaped sphere.
+        let (_, report) = jet_fit_report(&strip, &JetFitOptions::DEFAULT).unwrap();
+        assert_eq!(report.triangle_sampled, strip.num_vertices());
+        let sphere = shapes::icosphere(1.0, 3);
+        let (_, report) = jet_fit_report(&sphere, &JetFitOptions::DEFAULT).unwrap();
+        assert_eq!(report.triangle_sampled, 0);
     }
 
     #[test]
