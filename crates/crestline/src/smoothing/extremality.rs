@@ -552,14 +552,8 @@ mod tests {
 
     /// Where e_max crosses zero along the row y = 0, between x = −0.5 and 0.5.
     fn zero_on_the_middle_row(mesh: &TriMesh, e: &[f64]) -> f64 {
-        let mut row: Vec<(f64, f64)> = mesh
-            .positions()
-            .iter()
-            .zip(e)
-            .filter(|(p, _)| p.y.abs() < 1e-9 && p.x.abs() < 0.5)
-            .map(|(p, &e)| (p.x, e))
-            .collect();
-        row.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut row = middle_row(mesh, e);
+        row.retain(|(x, _)| x.abs() < 0.5);
         let k = row
             .windows(2)
             .position(|w| w[0].1 < 0.0 && w[1].1 >= 0.0)
@@ -604,8 +598,8 @@ mod tests {
         );
     }
 
-    /// e on the row y = 0 at x, linearly interpolated, and its slope there.
-    fn on_the_middle_row(mesh: &TriMesh, e: &[f64], x: f64) -> (f64, f64) {
+    /// The vertices of the row y = 0 as (x, e), by x.
+    fn middle_row(mesh: &TriMesh, e: &[f64]) -> Vec<(f64, f64)> {
         let mut row: Vec<(f64, f64)> = mesh
             .positions()
             .iter()
@@ -614,6 +608,12 @@ mod tests {
             .map(|(p, &e)| (p.x, e))
             .collect();
         row.sort_by(|a, b| a.0.total_cmp(&b.0));
+        row
+    }
+
+    /// e on the row y = 0 at x, linearly interpolated, and its slope there.
+    fn on_the_middle_row(mesh: &TriMesh, e: &[f64], x: f64) -> (f64, f64) {
+        let row = middle_row(mesh, e);
         let k = row.windows(2).position(|w| w[1].0 >= x).unwrap();
         let ((x0, e0), (x1, e1)) = (row[k], row[k + 1]);
         let slope = (e1 - e0) / (x1 - x0);
