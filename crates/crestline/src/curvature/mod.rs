@@ -82,7 +82,7 @@ pub struct Curvature {
     /// Standard deviation of the estimation noise of the extremalities, from
     /// [`Curvature::simulated_noise`] ([`Curvature::set_simulated_noise`]). 0 when the estimator does not measure noise (the shape
     /// operator, the cubic fit) or found the mesh clean. Line strengths count the cyclideness
-    /// above this noise only ([`crate::lines::assemble::debiased_cyclideness`]).
+    /// above this noise only ([`crate::lines::assemble::noise_free_share`]).
     pub extremality_noise: f64,
     /// What the estimator makes of white noise of the measured level in the vertex heights:
     /// per vertex, the `e_max` and `e_min` it would add. Smoothing steps smooth it with the

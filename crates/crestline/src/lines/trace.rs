@@ -52,7 +52,7 @@ pub struct Family<'a> {
     pub dirs: &'a [Vec3],
     /// Standard deviation of the extremalities' estimation noise
     /// ([`Curvature::extremality_noise`]), taken out of the cyclideness of lines
-    /// ([`super::assemble::debiased_cyclideness`]).
+    /// ([`super::assemble::noise_free_share`]).
     pub e_noise: f64,
     /// This family's extremality by a second model of the surface, per vertex
     /// ([`Curvature::alternative_extremalities`]); empty when the estimator has one model.
