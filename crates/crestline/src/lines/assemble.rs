@@ -170,8 +170,9 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
         for (i, location) in line.locations.iter().enumerate() {
             let (mut k, mut c, mut c2) = (0.0, 0.0, 0.0);
             for (v, w) in location_weights(mesh, *location) {
-                let (e, e_other) = (family.e[v as usize], family.e_other[v as usize]);
-                k += w * family.k[v as usize];
+                let v = v as usize;
+                let (e, e_other) = (family.e[v], family.e_other[v]);
+                k += w * family.k[v];
                 c += w * e.hypot(e_other);
                 c2 += w * (e * e + e_other * e_other);
             }
@@ -187,7 +188,12 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
         integrate(&line.points, &k_abs, &cyclideness, line.closed);
     let (_, crest_length, square_integral) =
         integrate(&line.points, &resolved, &squared, line.closed);
-    let share = noise_free_share(square_integral / crest_length, family.e_noise);
+    // A line with no crest part has T = 0 whatever the share.
+    let share = if crest_length > 0.0 {
+        noise_free_share(square_integral / crest_length, family.e_noise)
+    } else {
+        1.0
+    };
     line.length = length;
     line.curvature_integral = k_integral;
     line.strength = crest_length * c_integral * share;
@@ -272,28 +278,26 @@ pub const UMBILIC_GAP: f64 = 0.1;
 /// ([`Curvature::extremality_noise`](crate::curvature::Curvature::extremality_noise)):
 /// `sqrt(max(0, mean C² − δ²) / mean C²)`, 1 without noise (δ = 0) or without C.
 ///
-/// **One δ², not two.** At a point of the line this family's e is zero: its noise has moved
-/// the crossing, not added to the value there (the noise left by the fit and the smoothing
-/// is correlated over the fitting disc, many edges wide, so across the crossed edge e is the
-/// clean slope at the noisy place). Only the other family's e carries its noise into C, and
-/// `E[C²] = C_true² + δ²`.
+/// **One δ², not two.** At a point of the line this family's e is zero. The noise the fit
+/// and the smoothing leave is correlated over the fitting disc, many edges wide, so it is
+/// nearly the same ν at both ends of the crossed edge: it moves the crossing and leaves the
+/// value interpolated there as it was (ends `−h + ν` and `h + ν` interpolate to
+/// `(h² − ν²) / h`, not more). Only the other family's e carries its noise into C:
+/// `E[C²] ≈ C_true² + δ²`. (Noise that differs across one edge would add to it; the
+/// smoothed fields have little of that.)
 ///
 /// **Over the line, not point by point.** `sqrt(max(0, C² − δ²))` at each point is biased
-/// by the clamp and by the square root: for white noise with C_true = δ it gives 0.73 δ on
+/// by the clamp and the square root: for normal noise with C_true = δ it gives 0.73 δ on
 /// average, and for a line of noise alone (C_true = 0) 0.34 δ, which a long line turns into
 /// a large T (T grows with the square of the length). The mean of C² over the line is
-/// unbiased, and averages the noise down: a line of noise alone gets a share near 0.
+/// unbiased; the share made of it is not quite (T about 7% low at C_true = δ, the unit
+/// test), and on a line of noise alone it falls with the number of the noise's correlation
+/// lengths along the line, not of points. It is not local: the noise of a weak tail of a
+/// strong line is counted with the line's share.
 ///
 /// Until 2026-11-27 each point's C was replaced by `sqrt(max(0, C² − 2δ²))` (both families'
-/// noise). Measured (`score.py` on noisy cases made like the public ones, not in
-/// `../shared`): on four noisy ridges the valleys at the ridge's foot, T 2.7 on the clean
-/// mesh, measured T 0.74 to 1.16 and were dropped by the threshold (HPW F1 0.71 to 0.80,
-/// now 0.83 to 0.96, the valleys at T 1.6 to 2.7; YBS 0.55 to 0.77 → 0.90 to 0.96); noisy
-/// bumps YBS +0.02 to +0.08. The public cases are unchanged but the saliency method's
-/// worst noisy one (0.643 → 0.676). The cost: the tube of a torus under a wide disc has a
-/// bias that puts a zero of e on its outer equator, and two of the ten noisy tori made
-/// alike (one before) keep that loop as a line, 1.1 to 1.3 diagonals long (HPW: T 1.25 →
-/// 2.9 on the one, 0.7 → 1.6 on the other); the public tori keep none.
+/// noise); measurements before and after, and the cost on noisy tori, in `BENCHMARKS.md`
+/// (*Quality on exact-answer cases*).
 pub fn noise_free_share(mean_square: f64, noise: f64) -> f64 {
     if noise > 0.0 && mean_square > 0.0 {
         ((mean_square - noise * noise).max(0.0) / mean_square).sqrt()
@@ -528,12 +532,12 @@ mod tests {
         let nv = m.num_vertices();
         let (k, zero, dirs) = (vec![1.0; nv], vec![0.0; nv], vec![Vec3::y(); nv]);
         // e changes by `change` across every rung, crossing zero in its middle; the other
-        // family's e is `other` plus white noise of standard deviation `noise` (one value per
-        // rung: the noise is correlated over more than an edge).
+        // family's e is `other` plus noise of standard deviation `noise`, one value per four
+        // rungs (correlated over more than an edge, as the fit's and the smoothing's is).
         let strength = |change: f64, other: f64, noise: f64| {
             let e: Vec<f64> = m.positions().iter().map(|p| (p.y - 0.5) * change).collect();
             let e_other: Vec<f64> = (0..nv)
-                .map(|v| other + noise * crate::curvature::jet_fit::simulated_noise(v as u64 / 2))
+                .map(|v| other + noise * crate::curvature::jet_fit::simulated_noise(v as u64 / 8))
                 .collect();
             let fam = Family {
                 e_other: &e_other,
