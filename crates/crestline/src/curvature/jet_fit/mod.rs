@@ -280,23 +280,9 @@ pub fn jet_fit_split(
         Some(edges) => Some(Split::new(mesh, edges)?),
         None => None,
     };
-    let spacing = sample_spacing(mesh);
-    let areas = vertex_areas(mesh);
-    let normals = crate::mesh::vertex_normals_area(mesh);
-    let keys = probe_keys(mesh);
-    let neighbours = Neighbours::new(mesh);
-    let context = Context {
-        mesh,
-        areas: &areas,
-        normals: &normals,
-        spacing,
-        options,
-        split: split.as_ref().filter(|s| s.any),
-        residual: false,
-        keys: &keys,
-        neighbours: &neighbours,
-        blend: None,
-    };
+    let arrays = MeshArrays::new(mesh);
+    let context = arrays.context(mesh, options, split.as_ref().filter(|s| s.any));
+    let spacing = context.spacing;
     let probe = context.probe_noise(options.radius, PROBE_SAMPLES);
     let noise = probe.residual / spacing.max(f64::MIN_POSITIVE);
     let noisy = options.adapt_to_noise && noise > REFERENCE_NOISE;
@@ -533,6 +519,48 @@ struct VertexFit {
     alternative: [f64; 2],
     /// Whether the estimate is of a disc sampled on the triangles ([`surface`]).
     on_triangles: bool,
+}
+
+/// The per-vertex arrays a [`Context`] reads, made once per mesh.
+struct MeshArrays {
+    spacing: f64,
+    areas: Vec<f64>,
+    normals: Vec<Vec3>,
+    keys: Vec<u64>,
+    neighbours: Neighbours,
+}
+
+impl MeshArrays {
+    fn new(mesh: &TriMesh) -> Self {
+        MeshArrays {
+            spacing: sample_spacing(mesh),
+            areas: vertex_areas(mesh),
+            normals: crate::mesh::vertex_normals_area(mesh),
+            keys: probe_keys(mesh),
+            neighbours: Neighbours::new(mesh),
+        }
+    }
+
+    /// The context of fits with `options` (no residual, no blend; discs split at `split`).
+    fn context<'a>(
+        &'a self,
+        mesh: &'a TriMesh,
+        options: &'a JetFitOptions,
+        split: Option<&'a Split<'a>>,
+    ) -> Context<'a> {
+        Context {
+            mesh,
+            areas: &self.areas,
+            normals: &self.normals,
+            spacing: self.spacing,
+            options,
+            split,
+            residual: false,
+            keys: &self.keys,
+            neighbours: &self.neighbours,
+            blend: None,
+        }
+    }
 }
 
 /// Everything a vertex's fit reads.
@@ -1125,20 +1153,8 @@ mod tests {
         // largest and stays short. The radius returned is the one gathered, and the disc holds
         // exactly the vertices within it.
         let mesh = shapes::octahedron();
-        let (areas, normals) = (vertex_areas(&mesh), crate::mesh::vertex_normals_area(&mesh));
-        let (keys, neighbours) = (probe_keys(&mesh), Neighbours::new(&mesh));
-        let context = Context {
-            mesh: &mesh,
-            areas: &areas,
-            normals: &normals,
-            spacing: sample_spacing(&mesh),
-            options: &JetFitOptions::DEFAULT,
-            split: None,
-            residual: false,
-            keys: &keys,
-            neighbours: &neighbours,
-            blend: None,
-        };
+        let arrays = MeshArrays::new(&mesh);
+        let context = arrays.context(&mesh, &JetFitOptions::DEFAULT, None);
         let mut s = Scratch::default();
         // A radius whose largest growth (1.5⁴ ≈ 5.06 times) reaches the four neighbours of a
         // vertex (at √2) but not the opposite one (at 2), and the next growth would.
