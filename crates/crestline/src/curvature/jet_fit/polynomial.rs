@@ -377,7 +377,9 @@ impl Fit {
     /// The better of this fit and the fit of the *curved heights* `P = z + (c/2) z²` of the
     /// same samples, c the principal curvature of largest magnitude (in units of the radius)
     /// of that curved fit itself (iterated from this fit's): whichever leaves the smaller
-    /// weighted residual in the heights; and the other one (`None` where the curved fit is
+    /// weighted residual in the heights, or the curved one wherever it is made when
+    /// `keep_curved` (on white noise, where the residuals' difference is the noise's: see the
+    /// parent module's docs, step 3); and the other one (`None` where the curved fit is
     /// not made: below the third degree, on flat discs, where the sphere of curvature c does
     /// not reach over the disc, or where it is not finite).
     ///
@@ -394,7 +396,7 @@ impl Fit {
     /// origin up to the third order follow by the chain rule (the fourth-order ones are set
     /// to zero: nothing reads them). The simulated noise's coefficients are kept: `f′ ≈ 1`
     /// near the origin. Where the residual is measured, it becomes the kept fit's.
-    pub(super) fn curved(self, samples: &[Sample]) -> (Fit, Option<Fit>) {
+    pub(super) fn curved(self, samples: &[Sample], keep_curved: bool) -> (Fit, Option<Fit>) {
         if self.degree < 3 {
             return (self, None);
         }
@@ -446,7 +448,7 @@ impl Fit {
             residual,
             ..self
         };
-        if curved < plain {
+        if keep_curved || curved < plain {
             (fit, Some(self))
         } else {
             (self, Some(fit))
@@ -726,7 +728,7 @@ mod tests {
         let normal = Vec3::new(0.0, 0.0, 1.0);
         let plain = solve::<15>(&samples, 4, false).unwrap();
         let (plain_estimate, _, _) = plain.estimate(normal, r, None);
-        let (kept, other) = plain.curved(&samples);
+        let (kept, other) = plain.curved(&samples, false);
         let (estimate, _, alternative) = kept.estimate(normal, r, other.as_ref());
         // Measured: the quartic k 1.0006 and 1.0006 (6e-4 off), the curved 1 to 1e-15.
         assert!((plain_estimate.k_max - 1.0).abs() > 1e-4);
@@ -739,6 +741,37 @@ mod tests {
         let t = [estimate.dir_max.dot(&u), estimate.dir_max.dot(&w)];
         assert_eq!(alternative, plain.extremalities(&plain.coef, t, r));
         assert!(alternative[0].abs().max(alternative[1].abs()) > 1e-4);
+    }
+
+    #[test]
+    fn curved_heights_kept_on_request_where_the_heights_fit_better() {
+        // Heights that are a cubic, which the quartic fits exactly: the heights' fit leaves no
+        // residual and the curved heights' does, so by residual the heights' fit is kept; with `keep_curved` (white noise,
+        // where the residuals cannot tell the models apart) the curved one, the heights'
+        // becoming the other model.
+        let height = |x: f64, y: f64| -0.5 * x * x - 0.3 * y * y + 0.1 * x * x * x;
+        let mut next = uniform(0x00C0_FFEE_0000_0042);
+        let samples: Vec<Sample> = (0..400)
+            .filter_map(|_| {
+                let (x, y) = (2.0 * next() - 1.0, 2.0 * next() - 1.0);
+                let d2 = x * x + y * y;
+                (d2 < 1.0).then(|| Sample {
+                    x,
+                    y,
+                    z: height(x, y),
+                    w: (1.0 - d2).powi(2),
+                    xi: next() - 0.5,
+                })
+            })
+            .collect();
+        let plain = solve::<15>(&samples, 4, false).unwrap();
+        let (by_residual, other) = plain.curved(&samples, false);
+        assert_eq!(by_residual.coef, plain.coef);
+        let curved = other.expect("the curved fit is made").coef;
+        assert!((curved[6] - plain.coef[6]).abs() > 1e-3, "{curved:?}");
+        let (kept, other) = plain.curved(&samples, true);
+        assert_eq!(kept.coef, curved);
+        assert_eq!(other.map(|fit| fit.coef), Some(plain.coef));
     }
 
     #[test]
