@@ -94,7 +94,8 @@ pub struct Curvature {
     /// better, or on white noise the curved heights ([`jet_fit`](mod@jet_fit), *Curved
     /// heights*); these are the other's. Where the disc determines the fit the two agree;
     /// where it does not (rows of a CAD export's strips) they can disagree in sign, and a
-    /// zero of e that only one of them has is not a crest ([`crate::lines::assemble::is_resolved`]). Smoothed with the extremalities.
+    /// zero of e that only one of them has is not a crest
+    /// ([`crate::lines::assemble::is_resolved`]). Smoothed with the extremalities.
     /// Empty for the other estimators.
     pub alternative_extremalities: [Vec<f64>; 2],
     /// Per vertex, whether the jet fit's disc reached the mesh boundary: a one-sided fit, with

@@ -35,8 +35,9 @@
 //!    are a quadratic), and the one of the two that leaves the smaller residual is kept
 //!    (`Fit::curved`; on white noise the curved heights, below). The other stays as a
 //!    second model of the surface ([`Curvature::alternative_extremalities`]): a crossing of
-//!    e it does not have is not a crest. Measured (`score_fields.py`, public cases, mean e RMS): 0.020 → 0.013, the
-//!    coarse torus `ring/reg5k` k 0.68% → 0.06% of max |k|, e 0.088 → 0.025.
+//!    e it does not have is not a crest. Measured (`score_fields.py`, public cases, mean e
+//!    RMS): 0.020 → 0.013, the coarse torus `ring/reg5k` k 0.68% → 0.06% of max |k|, e
+//!    0.088 → 0.025.
 //!
 //!    *On white noise the curved heights are kept wherever they are made*, whatever the
 //!    residuals say ([`JetFitReport::white_noise`]: the public noisy cases, scans made

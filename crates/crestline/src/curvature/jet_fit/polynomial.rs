@@ -746,9 +746,9 @@ mod tests {
     #[test]
     fn curved_heights_kept_on_request_where_the_heights_fit_better() {
         // Heights that are a cubic, which the quartic fits exactly: the heights' fit leaves no
-        // residual and the curved heights' does, so by residual the heights' fit is kept; with `keep_curved` (white noise,
-        // where the residuals cannot tell the models apart) the curved one, the heights'
-        // becoming the other model.
+        // residual and the curved heights' does, so by residual the heights' fit is kept;
+        // with `keep_curved` (white noise, where the residuals cannot tell the models apart)
+        // the curved one, the heights' becoming the other model.
         let height = |x: f64, y: f64| -0.5 * x * x - 0.3 * y * y + 0.1 * x * x * x;
         let mut next = uniform(0x00C0_FFEE_0000_0042);
         let samples: Vec<Sample> = (0..400)
