@@ -356,22 +356,49 @@ fn noisy_tori_under_other_noise_have_no_lines() {
     // YBS (0.80 to 1.43); the curved heights, kept wherever they are made on white noise,
     // leave none.
     let clean = load("ring/reg20k");
-    let diagonal = clean.bounding_box().diagonal();
     for (fraction, seed) in [(0.07, 4), (0.07, 6), (0.1, 4), (0.1, 5), (0.1, 6), (0.1, 1)] {
-        let mesh = crestline::shapes::with_normal_noise(&clean, fraction, seed).unwrap();
-        for method in [Method::Hpw, Method::Ybs] {
-            let result = extract(&mesh, &ExtractOptions::for_method(method)).unwrap();
-            assert!(
-                result.stats.jet_fit.is_some_and(|fit| fit.white_noise()),
-                "noise {fraction} seed {seed}: the fit should find the noise white"
-            );
-            let spurious = result.lines.total_length() / diagonal;
-            eprintln!("noise {fraction} seed {seed} {method:?}: {spurious:.3} diagonals");
-            assert!(
-                spurious <= 0.1,
-                "{method:?}, noise {fraction} seed {seed}: {spurious:.3} diagonals of lines on a torus"
-            );
-        }
+        check_noisy_torus_has_no_lines("public", &clean, fraction, seed);
+    }
+}
+
+/// The torus `clean` with white noise of `fraction` mean edges along the normals (draw
+/// `seed`): the fit finds it white and neither HPW nor YBS traces more than 0.1 diagonals.
+fn check_noisy_torus_has_no_lines(name: &str, clean: &TriMesh, fraction: f64, seed: u64) {
+    let diagonal = clean.bounding_box().diagonal();
+    let mesh = crestline::shapes::with_normal_noise(clean, fraction, seed).unwrap();
+    for method in [Method::Hpw, Method::Ybs] {
+        let result = extract(&mesh, &ExtractOptions::for_method(method)).unwrap();
+        let case = format!("{name} torus, noise {fraction} seed {seed}, {method:?}");
+        assert!(
+            result.stats.jet_fit.is_some_and(|fit| fit.white_noise()),
+            "{case}: the fit should find the noise white"
+        );
+        let spurious = result.lines.total_length() / diagonal;
+        eprintln!("{case}: {spurious:.3} diagonals");
+        assert!(spurious <= 0.1, "{case}: {spurious:.3} diagonals of lines");
+    }
+}
+
+#[test]
+fn noisy_tubes_narrower_than_the_disc_have_no_lines() {
+    // Tori whose tube is narrower than the fit's disc, which widens with the noise: the
+    // public torus (tube 0.3) under noise of 0.2 mean edges (disc 0.40) and a torus of tube
+    // 0.2 under noise of 0.1 (disc 0.27). There the noise at the disc's rim put samples
+    // beyond the sphere of the tube's curvature, the curved heights' fit was refused where
+    // the fit was to keep it (`jet_fit`, step 3: at nearly every vertex) and the heights'
+    // left ridges along the outer side of the tube in every one of these draws: 2.0 to 2.6
+    // diagonals on the public torus, 0.7 to 2.6 on the thin one (HPW and YBS).
+    let public = load("ring/reg20k");
+    let thin = crestline::shapes::torus(1.0, 0.2, 200, 50);
+    let cases = [
+        ("public", &public, 0.2, 22),
+        ("public", &public, 0.2, 23),
+        ("thin", &thin, 0.1, 1),
+        ("thin", &thin, 0.1, 2),
+        ("thin", &thin, 0.1, 3),
+    ];
+    for (name, clean, fraction, seed) in cases {
+        check_noisy_torus_has_no_lines(name, clean, fraction, seed);
     }
 }
 

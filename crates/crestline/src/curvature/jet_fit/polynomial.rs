@@ -378,10 +378,12 @@ impl Fit {
     /// same samples, c the principal curvature of largest magnitude (in units of the radius)
     /// of that curved fit itself (iterated from this fit's): whichever leaves the smaller
     /// weighted residual in the heights, or the curved one wherever it is made when
-    /// `keep_curved` (on white noise, where the residuals' difference is the noise's: see the
-    /// parent module's docs, step 3); and the other one (`None` where the curved fit is
-    /// not made: below the third degree, on flat discs, where the sphere of curvature c does
-    /// not reach over the disc, or where it is not finite).
+    /// `keep_curved` is the noise's standard deviation (in units of the radius; on white
+    /// noise, where the residuals' difference is the noise's: see the parent module's docs,
+    /// step 3; the residual is then not measured); and the other one (`None` where the
+    /// curved fit is not made: below the third degree, on flat discs, where it is not
+    /// finite, or where the sphere of curvature c does not reach over the disc, to within
+    /// twice that noise when it is given).
     ///
     /// The heights of a sphere or a circular cylinder of curvature c over its tangent plane,
     /// `z = −(1 − √(1 − c²ρ²))/c`, are a series that converges only within its radius of
@@ -396,7 +398,7 @@ impl Fit {
     /// origin up to the third order follow by the chain rule (the fourth-order ones are set
     /// to zero: nothing reads them). The simulated noise's coefficients are kept: `f′ ≈ 1`
     /// near the origin. Where the residual is measured, it becomes the kept fit's.
-    pub(super) fn curved(self, samples: &[Sample], keep_curved: bool) -> (Fit, Option<Fit>) {
+    pub(super) fn curved(self, samples: &[Sample], keep_curved: Option<f64>) -> (Fit, Option<Fit>) {
         if self.degree < 3 {
             return (self, None);
         }
@@ -419,6 +421,23 @@ impl Fit {
             return (self, None);
         };
         let t = self.curved_coefficients(bend);
+        if let Some(sigma) = keep_curved {
+            debug_assert!(
+                self.residual.is_nan(),
+                "no residual is read where keep_curved"
+            );
+            let slack = 4.0 * bend.abs() * sigma;
+            let reaches = samples.iter().all(|s| {
+                let m = monomials::<15>(s.x, s.y);
+                let q: f64 = (0..15).map(|i| m[i] * t[i]).sum();
+                1.0 + 2.0 * bend * q >= -slack
+            });
+            return if reaches {
+                (Fit { coef, ..self }, Some(self))
+            } else {
+                (self, None)
+            };
+        }
         // The curved surface z = f(P) must reach over the whole disc: 1 + 2cP ≥ 0 at every
         // sample (else the disc is wider than the sphere it describes; the model fails).
         let (mut plain, mut curved, mut weight) = (0.0, 0.0, 0.0);
@@ -448,7 +467,7 @@ impl Fit {
             residual,
             ..self
         };
-        if keep_curved || curved < plain {
+        if curved < plain {
             (fit, Some(self))
         } else {
             (self, Some(fit))
@@ -605,6 +624,35 @@ mod tests {
         }
     }
 
+    /// `count` points drawn in [−1, 1]², those with x² + y² < `max_d2` kept as samples with
+    /// the fit's kernel weight at `height(x, y, next)` (which may draw its noise from `next`)
+    /// and simulated noise uniform in [−½, ½].
+    fn kernel_disc(
+        seed: u64,
+        count: usize,
+        max_d2: f64,
+        mut height: impl FnMut(f64, f64, &mut dyn FnMut() -> f64) -> f64,
+    ) -> Vec<Sample> {
+        let mut next = uniform(seed);
+        (0..count)
+            .filter_map(|_| {
+                let (x, y) = (2.0 * next() - 1.0, 2.0 * next() - 1.0);
+                let d2 = x * x + y * y;
+                if d2 >= max_d2 {
+                    return None;
+                }
+                let z = height(x, y, &mut next);
+                Some(Sample {
+                    x,
+                    y,
+                    z,
+                    w: (1.0 - d2).powi(2),
+                    xi: next() - 0.5,
+                })
+            })
+            .collect()
+    }
+
     /// Discs of pseudo-random samples: full ones, and rows along a rim with a nearly
     /// singular system, as on CAD strips.
     fn discs() -> Vec<Vec<Sample>> {
@@ -710,25 +758,13 @@ mod tests {
         // A sphere of radius 1 under a disc of radius 0.8: the quartic of its heights is
         // off by the series' truncation; its curved heights are a quadratic.
         let r = 0.8;
-        let mut next = uniform(0x0DDB_1A5E_5BAD_5EED);
-        let samples: Vec<Sample> = (0..400)
-            .filter_map(|_| {
-                let (x, y) = (2.0 * next() - 1.0, 2.0 * next() - 1.0);
-                let d2 = x * x + y * y;
-                let rho2 = d2 * r * r;
-                (d2 < 1.0).then(|| Sample {
-                    x,
-                    y,
-                    z: -(1.0 - (1.0 - rho2).sqrt()) / r,
-                    w: (1.0 - d2).powi(2),
-                    xi: next() - 0.5,
-                })
-            })
-            .collect();
+        let samples = kernel_disc(0x0DDB_1A5E_5BAD_5EED, 400, 1.0, |x, y, _| {
+            -(1.0 - (1.0 - (x * x + y * y) * r * r).sqrt()) / r
+        });
         let normal = Vec3::new(0.0, 0.0, 1.0);
         let plain = solve::<15>(&samples, 4, false).unwrap();
         let (plain_estimate, _, _) = plain.estimate(normal, r, None);
-        let (kept, other) = plain.curved(&samples, false);
+        let (kept, other) = plain.curved(&samples, None);
         let (estimate, _, alternative) = kept.estimate(normal, r, other.as_ref());
         // Measured: the quartic k 1.0006 and 1.0006 (6e-4 off), the curved 1 to 1e-15.
         assert!((plain_estimate.k_max - 1.0).abs() > 1e-4);
@@ -749,29 +785,52 @@ mod tests {
         // residual and the curved heights' does, so by residual the heights' fit is kept;
         // with `keep_curved` (white noise, where the residuals cannot tell the models apart)
         // the curved one, the heights' becoming the other model.
-        let height = |x: f64, y: f64| -0.5 * x * x - 0.3 * y * y + 0.1 * x * x * x;
-        let mut next = uniform(0x00C0_FFEE_0000_0042);
-        let samples: Vec<Sample> = (0..400)
-            .filter_map(|_| {
-                let (x, y) = (2.0 * next() - 1.0, 2.0 * next() - 1.0);
-                let d2 = x * x + y * y;
-                (d2 < 1.0).then(|| Sample {
-                    x,
-                    y,
-                    z: height(x, y),
-                    w: (1.0 - d2).powi(2),
-                    xi: next() - 0.5,
-                })
-            })
-            .collect();
+        let samples = kernel_disc(0x00C0_FFEE_0000_0042, 400, 1.0, |x, y, _| {
+            -0.5 * x * x - 0.3 * y * y + 0.1 * x * x * x
+        });
         let plain = solve::<15>(&samples, 4, false).unwrap();
-        let (by_residual, other) = plain.curved(&samples, false);
+        let (by_residual, other) = plain.curved(&samples, None);
         assert_eq!(by_residual.coef, plain.coef);
         let curved = other.expect("the curved fit is made").coef;
         assert!((curved[6] - plain.coef[6]).abs() > 1e-3, "{curved:?}");
-        let (kept, other) = plain.curved(&samples, true);
+        let (kept, other) = plain.curved(&samples, Some(0.0));
         assert_eq!(kept.coef, curved);
         assert_eq!(other.map(|fit| fit.coef), Some(plain.coef));
+    }
+
+    #[test]
+    fn curved_heights_kept_on_request_where_only_noise_takes_the_disc_past_their_sphere() {
+        // A sphere of radius 1 under a disc as wide, with noise: the curved fit's surface
+        // does not reach over the disc's rim (1 + 2cP < 0 at some sample), and by residual
+        // the heights' fit is kept with no other model, as it is on request without noise;
+        // on request with the noise's level (white noise, where the curved fit is read only
+        // at the origin and the disc need reach over the samples only to within the noise)
+        // the curved fit, close to the sphere.
+        let samples = kernel_disc(0x5EED_0F70_1100_0001, 600, 0.999, |x, y, next| {
+            -(1.0 - (1.0 - x * x - y * y).sqrt()) + 0.01 * (next() - 0.5)
+        });
+        let plain = solve::<15>(&samples, 4, false).unwrap();
+        let (by_residual, other) = plain.curved(&samples, None);
+        assert!(other.is_none());
+        assert_eq!(by_residual.coef, plain.coef);
+        let (without_noise, other) = plain.curved(&samples, Some(0.0));
+        assert!(other.is_none());
+        assert_eq!(without_noise.coef, plain.coef);
+        let sigma = 0.01 / 12f64.sqrt();
+        let (kept, other) = plain.curved(&samples, Some(sigma));
+        assert_eq!(other.map(|fit| fit.coef), Some(plain.coef));
+        let normal = Vec3::new(0.0, 0.0, 1.0);
+        let k = |fit: &Fit| {
+            let (estimate, _, _) = fit.estimate(normal, 1.0, None);
+            [estimate.k_max, estimate.k_min]
+        };
+        eprintln!("heights k {:?}, curved k {:?}", k(&plain), k(&kept));
+        for (curved, heights) in k(&kept).into_iter().zip(k(&plain)) {
+            assert!(
+                (curved - 1.0).abs() < (heights - 1.0).abs(),
+                "{curved} {heights}"
+            );
+        }
     }
 
     #[test]
