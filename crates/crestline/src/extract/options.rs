@@ -287,7 +287,7 @@ pub struct ExtractOptions {
     /// others ([`crate::lines::located`]): lines the noise moves about, off the weak crests
     /// they follow. Runs only when the jet fit finds the surface's noise white
     /// ([`crate::curvature::JetFitReport::white_noise`]; of the shared scans and models only
-    /// the teapot, whose base ring stays). Measured on the public `bumpy/noisy20k`: HPW F1
+    /// the teapot, whose lines along its base and handle stay). Measured on the public `bumpy/noisy20k`: HPW F1
     /// 0.710 → 0.806, YBS 0.739 → 0.811; the other public and CAD cases unchanged.
     ///
     /// Default: true. On 46 further noisy surfaces made like the public ones (against false)

@@ -43,7 +43,8 @@
 //! polynomial cannot follow, it overstates the noise of e many times (the cow's twelve ridges
 //! measure 0.04 to 1.7 times σ_s, the horse's lines from 0.27). The step runs only when the jet fit
 //! finds white noise ([`crate::curvature::jet_fit::JetFitReport::white_noise`]); of the
-//! shared meshes only the teapot's faceting passes for it (the ring around its base stays).
+//! shared meshes only the teapot's faceting passes for it (its lines along the base and the
+//! handle stay).
 //! Measured in BENCHMARKS.md, "Lines the noise moves about".
 
 use rayon::prelude::*;

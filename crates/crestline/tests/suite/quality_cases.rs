@@ -357,21 +357,34 @@ fn noisy_tori_under_other_noise_have_no_lines() {
     // leave none.
     let clean = load("ring/reg20k");
     for (fraction, seed) in [(0.07, 4), (0.07, 6), (0.1, 4), (0.1, 5), (0.1, 6), (0.1, 1)] {
-        check_noisy_torus_has_no_lines("public", &clean, fraction, seed);
+        check_noisy_torus_has_no_lines("public", &clean, fraction, seed, None);
     }
 }
 
 /// The torus `clean` with white noise of `fraction` mean edges along the normals (draw
-/// `seed`): the fit finds it white and neither HPW nor YBS traces more than 0.1 diagonals.
-fn check_noisy_torus_has_no_lines(name: &str, clean: &TriMesh, fraction: f64, seed: u64) {
+/// `seed`): the fit finds it white (with a disc wider than `tube`, when given) and neither
+/// HPW nor YBS traces more than 0.1 diagonals.
+fn check_noisy_torus_has_no_lines(
+    name: &str,
+    clean: &TriMesh,
+    fraction: f64,
+    seed: u64,
+    tube: Option<f64>,
+) {
     let diagonal = clean.bounding_box().diagonal();
     let mesh = crestline::shapes::with_normal_noise(clean, fraction, seed).unwrap();
     for method in [Method::Hpw, Method::Ybs] {
         let result = extract(&mesh, &ExtractOptions::for_method(method)).unwrap();
         let case = format!("{name} torus, noise {fraction} seed {seed}, {method:?}");
+        let fit = result.stats.jet_fit.expect("the jet fit's report");
         assert!(
-            result.stats.jet_fit.is_some_and(|fit| fit.white_noise()),
+            fit.white_noise(),
             "{case}: the fit should find the noise white"
+        );
+        let disc = fit.radius * fit.spacing;
+        assert!(
+            tube.is_none_or(|tube| disc > tube),
+            "{case}: disc {disc:.3} not wider than the tube"
         );
         let spurious = result.lines.total_length() / diagonal;
         eprintln!("{case}: {spurious:.3} diagonals");
@@ -391,14 +404,14 @@ fn noisy_tubes_narrower_than_the_disc_have_no_lines() {
     let public = load("ring/reg20k");
     let thin = crestline::shapes::torus(1.0, 0.2, 200, 50);
     let cases = [
-        ("public", &public, 0.2, 22),
-        ("public", &public, 0.2, 23),
-        ("thin", &thin, 0.1, 1),
-        ("thin", &thin, 0.1, 2),
-        ("thin", &thin, 0.1, 3),
+        ("public", &public, 0.3, 0.2, 22),
+        ("public", &public, 0.3, 0.2, 23),
+        ("thin", &thin, 0.2, 0.1, 1),
+        ("thin", &thin, 0.2, 0.1, 2),
+        ("thin", &thin, 0.2, 0.1, 3),
     ];
-    for (name, clean, fraction, seed) in cases {
-        check_noisy_torus_has_no_lines(name, clean, fraction, seed);
+    for (name, clean, tube, fraction, seed) in cases {
+        check_noisy_torus_has_no_lines(name, clean, fraction, seed, Some(tube));
     }
 }
 

@@ -55,19 +55,20 @@
 //!    fitted with such a disc: the bumps' lines F1 0.846 against 0.821 with the heights,
 //!    0.840 with the choice by residual; the others equal). Their sphere need reach over
 //!    the disc only to within twice the noise (`1 + 2cP ≥ −4|c|σ` at every sample, P within
-//!    2σ of the sphere's rim): where the disc is as wide as a tube (thin tubes, strong noise)
-//!    the noise at its rim failed the exact test nearly everywhere and left the heights
-//!    (tori of tube 0.2 under noise of 0.1 edges, the public one under 0.2: ridges of 0.7 to
-//!    2.6 diagonals along their outer side, none now; the teapot's faceting: the line along
-//!    its spout), while a disc across a crease, whose other side turns away far
-//!    beyond the noise, still fails it (a noisy part's edges traced as crest lines where the
-//!    crease finder gives up: without the test at all, the noisy pipe elbow's F1 0.649 →
-//!    0.190). The heights stay the second model. Clean meshes, CAD exports and scans whose residual is mostly surface keep the
-//!    choice by residual. What it costs on noisy surfaces made alike: ellipsoids' lines
-//!    wander a little more (F1 up to 0.03 lower; their heights' e is the steeper across
-//!    the crests, 12% above the exact slope, which the same noise moves less), and a
-//!    valley on the located filter's threshold (`lines::located`) falls under it on one
-//!    noisy ridge (0.12). Measured in BENCHMARKS.md, *The fit's model on white noise*.
+//!    2σ of the sphere's rim): where the disc is as wide as a tube (thin tubes, strong
+//!    noise) the noise at its rim failed the exact test nearly everywhere and left the
+//!    heights (tori of tube 0.2 under noise of 0.1 edges, the public one under 0.2: ridges
+//!    of 0.7 to 2.6 diagonals along their outer side, none now; the teapot's faceting: the
+//!    line along its spout), while a disc across a crease, whose other side turns away far
+//!    beyond the noise, still fails it (a noisy part's edges traced as crest lines where
+//!    the crease finder gives up: without the test at all, the noisy pipe elbow's F1 0.649
+//!    → 0.190). The heights stay the second model. Clean meshes, CAD exports and scans
+//!    whose residual is mostly surface keep the choice by residual. What it costs on noisy
+//!    surfaces made alike: ellipsoids' lines wander a little more (F1 up to 0.03 lower;
+//!    their heights' e is the steeper across the crests, 12% above the exact slope, which
+//!    the same noise moves less), and a valley on the located filter's threshold
+//!    (`lines::located`) falls under it on one noisy ridge (0.12). Measured in
+//!    BENCHMARKS.md, *The fit's model on white noise*.
 //! 4. *Differential quantities* of the second fit's graph h at the origin: with n outward, a
 //!    convex surface has h ≈ −x²/(2ρ), so the Weingarten matrix is `W = −Hess h` (the metric
 //!    is the identity to second order where the gradient vanishes). Its eigen-pairs are the

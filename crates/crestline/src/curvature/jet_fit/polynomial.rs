@@ -806,8 +806,16 @@ mod tests {
         // on request with the noise's level (white noise, where the curved fit is read only
         // at the origin and the disc need reach over the samples only to within the noise)
         // the curved fit, close to the sphere.
+        let sphere = |x: f64, y: f64| -(1.0 - (1.0 - x * x - y * y).sqrt());
+        // Without the noise the sphere reaches over the disc and the curved fit is made.
+        let clean = kernel_disc(0x5EED_0F70_1100_0001, 600, 0.999, |x, y, next| {
+            let _ = next();
+            sphere(x, y)
+        });
+        let heights = solve::<15>(&clean, 4, false).unwrap();
+        assert!(heights.curved(&clean, None).1.is_some());
         let samples = kernel_disc(0x5EED_0F70_1100_0001, 600, 0.999, |x, y, next| {
-            -(1.0 - (1.0 - x * x - y * y).sqrt()) + 0.01 * (next() - 0.5)
+            sphere(x, y) + 0.01 * (next() - 0.5)
         });
         let plain = solve::<15>(&samples, 4, false).unwrap();
         let (by_residual, other) = plain.curved(&samples, None);
