@@ -421,25 +421,10 @@ impl Fit {
             return (self, None);
         };
         let t = self.curved_coefficients(bend);
-        if let Some(sigma) = keep_curved {
-            debug_assert!(
-                self.residual.is_nan(),
-                "no residual is read where keep_curved"
-            );
-            let slack = 4.0 * bend.abs() * sigma;
-            let reaches = samples.iter().all(|s| {
-                let m = monomials::<15>(s.x, s.y);
-                let q: f64 = (0..15).map(|i| m[i] * t[i]).sum();
-                1.0 + 2.0 * bend * q >= -slack
-            });
-            return if reaches {
-                (Fit { coef, ..self }, Some(self))
-            } else {
-                (self, None)
-            };
-        }
         // The curved surface z = f(P) must reach over the whole disc: 1 + 2cP ≥ 0 at every
-        // sample (else the disc is wider than the sphere it describes; the model fails).
+        // sample (else the disc is wider than the sphere it describes; the model fails). On
+        // white noise (`keep_curved`, the noise σ) to within 2σ in P: `1 + 2cP ≥ −4|c|σ`.
+        let slack = keep_curved.map_or(0.0, |sigma| 4.0 * bend.abs() * sigma);
         let (mut plain, mut curved, mut weight) = (0.0, 0.0, 0.0);
         for s in samples {
             let m = monomials::<15>(s.x, s.y);
@@ -449,13 +434,23 @@ impl Fit {
                 q += m[i] * t[i];
             }
             let root = 1.0 + 2.0 * bend * q;
-            if root.is_nan() || root < 0.0 {
+            if root.is_nan() || root < -slack {
                 return (self, None);
             }
-            let (a, b) = (p - s.z, 2.0 * q / (1.0 + root.sqrt()) - s.z);
-            plain += s.w * a * a;
-            curved += s.w * b * b;
-            weight += s.w;
+            if keep_curved.is_none() {
+                let (a, b) = (p - s.z, 2.0 * q / (1.0 + root.sqrt()) - s.z);
+                plain += s.w * a * a;
+                curved += s.w * b * b;
+                weight += s.w;
+            }
+        }
+        if keep_curved.is_some() {
+            // Kept whatever the residuals say, which are not measured.
+            debug_assert!(
+                self.residual.is_nan(),
+                "no residual is read where keep_curved"
+            );
+            return (Fit { coef, ..self }, Some(self));
         }
         let residual = if self.residual.is_nan() {
             f64::NAN
