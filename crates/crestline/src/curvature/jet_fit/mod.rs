@@ -112,7 +112,7 @@ use super::{Curvature, VertexEstimate, collect_estimates, tangent_frame};
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3};
 use polynomial::{Fit, solve};
-use surface::SurfacePoint;
+use surface::{Scaled, SurfacePoint};
 
 /// The largest [`JetFitOptions::radius`], in sample spacings: four times the default. A disc
 /// gathers about 3.6 r² vertices and the time grows faster still (horse, 48k vertices: 1.3 s
@@ -465,12 +465,14 @@ fn median(values: &mut [f64]) -> f64 {
     values[mid]
 }
 
-/// Per vertex, the (neighbour, edge) pairs of its edges in [`crate::mesh::Topology::vertex_edges`]
-/// order, side by side: the disc search reads them for every vertex of every disc, and
-/// looking each edge's ends up in the topology cost about a tenth of the fit's time.
+/// Per vertex, its neighbours in [`crate::mesh::Topology::vertex_edges`] order, in compressed
+/// rows: the disc search reads them for every vertex of every disc, and looking each edge's
+/// ends up in the topology cost about a tenth of the fit's time. The edges themselves are
+/// read (from the topology, in the same order) only with creases: without them the search
+/// reads 4 bytes per neighbour.
 struct Neighbours {
     offsets: Vec<usize>,
-    pairs: Vec<(u32, u32)>,
+    vertices: Vec<u32>,
 }
 
 impl Neighbours {
@@ -478,17 +480,19 @@ impl Neighbours {
         let topo = mesh.topology();
         let n = mesh.num_vertices();
         let mut offsets = Vec::with_capacity(n + 1);
-        let mut pairs = Vec::new();
+        let mut vertices = Vec::new();
         offsets.push(0);
         for a in 0..n as u32 {
-            pairs.extend(topo.neighbors(a).zip(topo.vertex_edges(a).iter().copied()));
-            offsets.push(pairs.len());
+            vertices.extend(topo.neighbors(a));
+            offsets.push(vertices.len());
         }
-        Neighbours { offsets, pairs }
+        Neighbours { offsets, vertices }
     }
 
-    fn of(&self, v: u32) -> &[(u32, u32)] {
-        &self.pairs[self.offsets[v as usize]..self.offsets[v as usize + 1]]
+    /// The neighbours of `v`, the k-th across the k-th of its edges
+    /// ([`crate::mesh::Topology::vertex_edges`]).
+    fn of(&self, v: u32) -> &[u32] {
+        &self.vertices[self.offsets[v as usize]..self.offsets[v as usize + 1]]
     }
 }
 
@@ -736,16 +740,19 @@ struct Sample {
 /// Per-thread scratch: breadth-first marks and the disc.
 #[derive(Default)]
 struct Scratch {
-    marks: Vec<u32>,
-    stamp: u32,
+    /// A byte per vertex ([`next_stamp`]).
+    marks: Vec<u8>,
+    stamp: u8,
     disc: Vec<u32>,
     /// The points the fit samples: the disc's vertices, or pieces of its triangles.
     points: Vec<SurfacePoint>,
+    /// The points relative to the centre, scaled ([`Context::scale_points`]).
+    scaled: Vec<Scaled>,
     samples: Vec<Sample>,
     /// Triangles of a disc sampled on its triangles ([`surface`]), with their own marks.
     faces: Vec<u32>,
-    face_marks: Vec<u32>,
-    face_stamp: u32,
+    face_marks: Vec<u8>,
+    face_stamp: u8,
     /// With creases: the area normal of the side of the disc's centre that the disc covers.
     side_normal: Vec3,
 }
@@ -755,8 +762,10 @@ thread_local! {
 }
 
 /// A fresh stamp for `marks` (resized to `n` entries), so that no entry equals it: the marks
-/// of a breadth-first search are cleared by moving to the next stamp.
-fn next_stamp(marks: &mut Vec<u32>, stamp: &mut u32, n: usize) -> u32 {
+/// of a breadth-first search are cleared by moving to the next stamp, and all of them every
+/// 255 searches. A byte each: the searches read the marks of scattered vertices, which then
+/// take a quarter of the cache that 32-bit stamps did.
+fn next_stamp(marks: &mut Vec<u8>, stamp: &mut u8, n: usize) -> u8 {
     if marks.len() != n {
         *marks = vec![0; n];
         *stamp = 0;
@@ -856,7 +865,8 @@ impl Context<'_> {
         }
         let p = self.mesh.position(v);
         let normal = self.vertex_samples(p, r, s).try_normalize(1e-300)?;
-        self.frame_samples(p, normal, r, s);
+        self.scale_points(p, r, s);
+        self.frame_samples(normal, s);
         if s.samples.len() < 20 {
             return None;
         }
@@ -876,24 +886,43 @@ impl Context<'_> {
     /// ([`Curvature::alternative_extremalities`]).
     fn run(&self, radius: f64) -> (Curvature, [Vec<f64>; 2], [Vec<f64>; 2], usize) {
         let n = self.mesh.num_vertices();
-        let results: Vec<VertexFit> = (0..n as u32)
-            .into_par_iter()
-            .map(|v| {
-                let mut fit = SCRATCH
-                    .with(|s| self.fit_vertex(v, radius * self.spacing, &mut s.borrow_mut()));
-                // A fallback (or a sanitised estimate) has no second model: its own e.
-                fit.estimate = fit.estimate.sanitized();
-                if fit.estimate.fallback {
-                    fit.alternative = [fit.estimate.e_max, fit.estimate.e_min];
-                }
-                fit
-            })
-            .collect();
-        let simulated = [0, 1].map(|k| results.iter().map(|r| r.noise[k]).collect());
-        let alternative = [0, 1].map(|k| results.iter().map(|r| r.alternative[k]).collect());
-        let on_triangles = results.iter().filter(|r| r.on_triangles).count();
-        let (curvature, _) = collect_estimates(n, || (), |_, v| results[v as usize].estimate);
-        (curvature, simulated, alternative, on_triangles)
+        // Each part of the fits into its own array as they are made (one pass; an array of
+        // whole `VertexFit`s is 168 bytes per vertex to fault in and read back).
+        type Parts = (
+            Vec<VertexEstimate>,
+            ((Vec<f64>, Vec<f64>), ((Vec<f64>, Vec<f64>), Vec<bool>)),
+        );
+        let (estimates, ((noise_max, noise_min), ((other_max, other_min), on_triangles))): Parts =
+            (0..n as u32)
+                .into_par_iter()
+                .map(|v| {
+                    let fit = SCRATCH
+                        .with(|s| self.fit_vertex(v, radius * self.spacing, &mut s.borrow_mut()));
+                    // A fallback (or a sanitised estimate) has no second model: its own e.
+                    let estimate = fit.estimate.sanitized();
+                    let [other_max, other_min] = if estimate.fallback {
+                        [estimate.e_max, estimate.e_min]
+                    } else {
+                        fit.alternative
+                    };
+                    let [noise_max, noise_min] = fit.noise;
+                    (
+                        estimate,
+                        (
+                            (noise_max, noise_min),
+                            ((other_max, other_min), fit.on_triangles),
+                        ),
+                    )
+                })
+                .unzip();
+        let on_triangles = on_triangles.par_iter().filter(|&&t| t).count();
+        let (curvature, _) = collect_estimates(n, || (), |_, v| estimates[v as usize]);
+        (
+            curvature,
+            [noise_max, noise_min],
+            [other_max, other_min],
+            on_triangles,
+        )
     }
 
     /// The fit of vertex `v` ([`VertexFit`]).
@@ -949,7 +978,8 @@ impl Context<'_> {
         // Pieces of flat triangles are off a curved surface by the chord error, not by noise:
         // no residual measured there.
         let residual = self.residual && !on_triangles;
-        let Some(second) = self.fit_in_frame(p, n1, r, s, self.blend, residual) else {
+        // The same points as the first fit's (`first_fit` scaled them), in another frame.
+        let Some(second) = self.fit_in_frame::<3>(n1, r, s, self.blend, residual) else {
             return fallback(n1);
         };
         let (second, other) = if on_triangles {
@@ -993,8 +1023,9 @@ impl Context<'_> {
 
     /// Samples the disc (at its vertices, with the radius `grown` of [`Self::grow_disc`], or
     /// on its triangles, [`Self::sample_triangle_disc`]) and fits it in the frame of the
-    /// samples' kernel-weighted area normal: that normal, the fit (`None` when it cannot be
-    /// solved) and the radius sampled; `None` when the normal vanishes.
+    /// samples' kernel-weighted area normal: that normal, the fit of the heights alone
+    /// (`None` when it cannot be solved) and the radius sampled; `None` when the normal
+    /// vanishes.
     fn first_fit(
         &self,
         v: u32,
@@ -1009,8 +1040,9 @@ impl Context<'_> {
             (self.vertex_samples(p, grown, s), grown)
         };
         let n0 = normal.try_normalize(1e-300)?;
-        // Only its coefficients are read: no residual.
-        Some((n0, self.fit_in_frame(p, n0, r, s, None, false), r))
+        self.scale_points(p, r, s);
+        // Only its coefficients are read: no residual, no other right-hand side.
+        Some((n0, self.fit_in_frame::<1>(n0, r, s, None, false), r))
     }
 
     /// Puts the disc's vertices into `s.points` and returns the first normal: the
@@ -1053,8 +1085,9 @@ impl Context<'_> {
             self.seed_side(v, split, r2, s);
             head = 1;
         }
-        while head < s.disc.len() {
-            let a = s.disc[head];
+        let (marks, disc, positions) = (&mut s.marks, &mut s.disc, self.mesh.positions());
+        while head < disc.len() {
+            let a = disc[head];
             head += 1;
             if let Some(split) = self.split
                 && split.vertices[a as usize]
@@ -1062,16 +1095,24 @@ impl Context<'_> {
             {
                 continue;
             }
-            for &(b, e) in self.neighbours.of(a) {
-                if self.split.is_some_and(|split| split.edges[e as usize]) {
-                    continue;
+            let mut visit = |b: u32| {
+                if marks[b as usize] != stamp {
+                    marks[b as usize] = stamp;
+                    if (positions[b as usize] - p).norm_squared() < r2 {
+                        disc.push(b);
+                    }
                 }
-                if s.marks[b as usize] == stamp {
-                    continue;
-                }
-                s.marks[b as usize] = stamp;
-                if (self.mesh.position(b) - p).norm_squared() < r2 {
-                    s.disc.push(b);
+            };
+            let near = self.neighbours.of(a);
+            match self.split {
+                None => near.iter().for_each(|&b| visit(b)),
+                Some(split) => {
+                    let edges = self.mesh.topology().vertex_edges(a);
+                    for (&b, &e) in near.iter().zip(edges) {
+                        if !split.edges[e as usize] {
+                            visit(b);
+                        }
+                    }
                 }
             }
         }
@@ -1094,32 +1135,39 @@ impl Context<'_> {
         }
     }
 
-    /// The points of the disc (`s.points`) as samples in the tangent frame of `normal` at
-    /// `p`, divided by `r` (`s.samples`).
-    fn frame_samples(&self, p: Vec3, normal: Vec3, r: f64, s: &mut Scratch) {
+    /// The points of the disc (`s.points`) relative to `p`, divided by `r`, with their
+    /// weights (`s.scaled`): what the samples of every frame share (the first fit and the
+    /// second, in another frame, sample the same points).
+    fn scale_points(&self, p: Vec3, r: f64, s: &mut Scratch) {
+        s.scaled.clear();
+        s.scaled
+            .extend(s.points.iter().filter_map(|q| q.scaled(p, r)));
+    }
+
+    /// The scaled points of the disc (`s.scaled`, [`Self::scale_points`]) as samples in the
+    /// tangent frame of `normal` (`s.samples`).
+    fn frame_samples(&self, normal: Vec3, s: &mut Scratch) {
         let (u, w, n) = tangent_frame(normal);
         let frame = [u, w, n];
         s.samples.clear();
-        for q in &s.points {
-            if let Some(sample) = q.sample(p, frame, r) {
-                s.samples.push(sample);
-            }
-        }
+        s.samples.extend(s.scaled.iter().map(|q| q.sample(frame)));
     }
 
-    /// Weighted least-squares fit of the disc's heights over the tangent plane of `normal`.
+    /// Weighted least-squares fit of the disc's heights over the tangent plane of `normal`:
+    /// the points as [`Self::scale_points`] left them, scaled by `r`.
     /// With `blend`, a blend of cubic and quartic ([`Blend`]) where the disc carries both.
-    /// The residual is measured only when `residual` (the blend never measures it).
-    fn fit_in_frame(
+    /// The residual is measured only when `residual` (the blend never measures it). `K` is
+    /// 3 for a fit of the simulated noise and the squared heights too, 1 for the heights'
+    /// coefficients alone ([`solve`]; without a blend).
+    fn fit_in_frame<const K: usize>(
         &self,
-        p: Vec3,
         normal: Vec3,
         r: f64,
         s: &mut Scratch,
         blend: Option<Blend>,
         residual: bool,
     ) -> Option<Fit> {
-        self.frame_samples(p, normal, r, s);
+        self.frame_samples(normal, s);
         let count = s.samples.len();
         if let Some(blend) = blend
             && count >= 20
@@ -1132,13 +1180,13 @@ impl Context<'_> {
         // a lower one when the normal equations cannot be factored.
         let mut fit = None;
         if count >= 20 && self.options.degree >= 4 {
-            fit = solve::<15>(&s.samples, 4, residual);
+            fit = solve::<15, K>(&s.samples, 4, residual);
         }
         if fit.is_none() && count >= 13 {
-            fit = solve::<10>(&s.samples, 3, residual);
+            fit = solve::<10, K>(&s.samples, 3, residual);
         }
         if fit.is_none() && count >= 7 {
-            fit = solve::<6>(&s.samples, 2, residual);
+            fit = solve::<6, K>(&s.samples, 2, residual);
         }
         fit
     }

@@ -62,10 +62,11 @@ fn monomials<const N: usize>(x: f64, y: f64) -> [f64; N] {
 pub(super) struct Fit {
     /// Coefficients in [`monomials`] order; at most 15 (unused ones are zero).
     pub(super) coef: [f64; 15],
-    /// The same for the simulated noise.
+    /// The same for the simulated noise (NaN in a fit of the heights alone: [`solve`]).
     noise_coef: [f64; 15],
     /// The same for the squared heights (`Σ w z² m` on the right): the fit of the curved
-    /// heights `z + (c/2) z²` is `coef + (c/2) square_coef` ([`Fit::curved`]).
+    /// heights `z + (c/2) z²` is `coef + (c/2) square_coef` ([`Fit::curved`]; NaN in a fit
+    /// of the heights alone).
     square_coef: [f64; 15],
     pub(super) degree: usize,
     pub(super) residual: f64,
@@ -84,16 +85,19 @@ pub(super) struct Fit {
 /// measured only when `residual` (NaN otherwise).
 ///
 /// By the normal equations `(Σ w m mᵀ) c = Σ w z m` (m the monomials of a sample), solved by
-/// Cholesky, with the simulated noise `Σ w ξ m` as a second right-hand side. The arithmetic
-/// is that of nalgebra's `syger`, `cholesky` and `solve`, operation for operation and in the
-/// same order, so the results are theirs to the bit (test below); written out on fixed-size
-/// arrays, without the dynamically sized views nalgebra's routines work on.
-pub(super) fn solve<const N: usize>(
+/// Cholesky, with the simulated noise `Σ w ξ m` and the squared heights `Σ w z² m` as further
+/// right-hand sides when `K` is 3; when `K` is 1 the heights alone (a fit read only for its
+/// coefficients: the other columns are NaN). Each right-hand side's arithmetic is the same
+/// either way. The arithmetic is that of nalgebra's `syger`, `cholesky` and `solve`,
+/// operation for operation and in the same order, so the results are theirs to the bit
+/// (test below); written out on fixed-size arrays, without the dynamically sized views
+/// nalgebra's routines work on.
+pub(super) fn solve<const N: usize, const K: usize>(
     samples: &[Sample],
     degree: usize,
     residual: bool,
 ) -> Option<Fit> {
-    let (ata, rhs, weight) = normal_equations::<N>(samples);
+    let (ata, rhs, weight) = normal_equations::<N, K>(samples);
     solve_system(ata, rhs, weight, samples, degree, residual).map(|(fit, _)| fit)
 }
 
@@ -112,21 +116,23 @@ pub(super) struct Nested {
 /// equations: the cubic's are the leading block of the quartic's, entry for entry, so the
 /// cubic is [`solve`]'s to the bit. `None` unless both can be solved.
 pub(super) fn solve_nested(samples: &[Sample]) -> Option<Nested> {
-    let (ata, rhs, weight) = normal_equations::<15>(samples);
+    let (ata, rhs, weight) = normal_equations::<15, 3>(samples);
     let ata3: [[f64; 10]; 10] = std::array::from_fn(|j| std::array::from_fn(|i| ata[j][i]));
     let rhs3: [[f64; 3]; 10] = std::array::from_fn(|i| rhs[i]);
     let (cubic, l3) = solve_system(ata3, rhs3, weight, samples, 3, false)?;
     let (quartic, l4) = solve_system(ata, rhs, weight, samples, 4, false)?;
     // The Hessian's entries as functionals of the coefficients, scaled for the Frobenius
-    // norm: h_xx = 2 c₃, h_xy = c₄ (twice), h_yy = 2 c₅.
+    // norm: h_xx = 2 c₃, h_xy = c₄ (twice), h_yy = 2 c₅; one right-hand side each, solved
+    // together (each column's arithmetic is that of a solve of its own).
     let functionals = [(3, 2.0), (4, std::f64::consts::SQRT_2), (5, 2.0)];
-    let difference: [[f64; 15]; 3] = functionals.map(|(k, scale)| {
-        let mut g4 = [[0.0; 1]; 15];
-        g4[k][0] = scale;
-        let mut g3 = [[0.0; 1]; 10];
-        g3[k][0] = scale;
-        let (u4, u3) = (solve_factored(&l4, g4), solve_factored(&l3, g3));
-        std::array::from_fn(|i| u4[i][0] - if i < 10 { u3[i][0] } else { 0.0 })
+    let (mut g4, mut g3) = ([[0.0; 3]; 15], [[0.0; 3]; 10]);
+    for (t, (k, scale)) in functionals.into_iter().enumerate() {
+        g4[k][t] = scale;
+        g3[k][t] = scale;
+    }
+    let (u4, u3) = (solve_factored(&l4, g4), solve_factored(&l3, g3));
+    let difference: [[f64; 15]; 3] = std::array::from_fn(|t| {
+        std::array::from_fn(|i| u4[i][t] - if i < 10 { u3[i][t] } else { 0.0 })
     });
     let mut extra_variance = 0.0;
     for s in samples {
@@ -145,9 +151,9 @@ pub(super) fn solve_nested(samples: &[Sample]) -> Option<Nested> {
 
 /// [`solve`] from the normal equations ([`normal_equations`]); also returns the Cholesky
 /// factor of the (regularised) normal matrix.
-fn solve_system<const N: usize>(
+fn solve_system<const N: usize, const K: usize>(
     mut ata: [[f64; N]; N],
-    rhs: [[f64; 3]; N],
+    rhs: [[f64; K]; N],
     weight: f64,
     samples: &[Sample],
     degree: usize,
@@ -165,7 +171,10 @@ fn solve_system<const N: usize>(
     for (k, column) in ata.iter_mut().enumerate() {
         column[k] += ridge / (ROTATION_SCALE[k] * ROTATION_SCALE[k]);
     }
-    let l = cholesky(ata)?;
+    if !cholesky(&mut ata) {
+        return None;
+    }
+    let l = ata;
     let conditioning = (0..N).fold(f64::INFINITY, |least, k| {
         least.min(l[k][k] * l[k][k] / diagonal[k])
     });
@@ -177,6 +186,9 @@ fn solve_system<const N: usize>(
     let mut coef = [0.0; 15];
     coef[..N].copy_from_slice(&x);
     let column = |k: usize| -> [f64; 15] {
+        if k >= K {
+            return [f64::NAN; 15];
+        }
         let mut c = [0.0; 15];
         for (c, s) in c.iter_mut().zip(&solution) {
             *c = s[k];
@@ -211,15 +223,23 @@ fn solve_system<const N: usize>(
 
 /// The normal equations of the fit by the first `N` monomials: `Σ w m mᵀ` (`ata[j][i]` is
 /// entry (i, j) for i ≥ j: the columns of its lower triangle, the one the factorisation
-/// reads), the right-hand sides `Σ w z m`, `Σ w ξ m` and `Σ w z² m` side by side (`rhs[i]`,
-/// solved together), and `Σ w`. A function of its own: inlined into [`solve`], its loop was
+/// reads), the first `K` of the right-hand sides `Σ w z m`, `Σ w ξ m` and `Σ w z² m` side by
+/// side (`rhs[i]`, solved together), and `Σ w`. A function of its own: inlined into [`solve`], its loop was
 /// compiled with the accumulators spilled. (Its index loops compile to faster code than
 /// `iter_mut().enumerate()` and `zip` did: 17% against 22% of igea's extract in perf.)
 #[inline(never)]
 #[allow(clippy::needless_range_loop)]
-fn normal_equations<const N: usize>(samples: &[Sample]) -> ([[f64; N]; N], [[f64; 3]; N], f64) {
+fn normal_equations<const N: usize, const K: usize>(
+    samples: &[Sample],
+) -> ([[f64; N]; N], [[f64; K]; N], f64) {
+    const {
+        assert!(
+            K == 1 || K == 3,
+            "the heights alone, or all three right-hand sides"
+        )
+    };
     let mut ata = [[0.0f64; N]; N];
-    let mut rhs = [[0.0f64; 3]; N];
+    let mut rhs = [[0.0f64; K]; N];
     let mut weight = 0.0;
     for s in samples {
         let m = monomials::<N>(s.x, s.y);
@@ -233,19 +253,23 @@ fn normal_equations<const N: usize>(samples: &[Sample]) -> ([[f64; N]; N], [[f64
         }
         let wv = [s.w * s.z, s.w * s.xi, s.w * s.z * s.z];
         for i in 0..N {
+            // K is 1 or 3, written out: a loop over the columns compiled to slower code.
             rhs[i][0] += wv[0] * m[i];
-            rhs[i][1] += wv[1] * m[i];
-            rhs[i][2] += wv[2] * m[i];
+            if K == 3 {
+                rhs[i][1] += wv[1] * m[i];
+                rhs[i][2] += wv[2] * m[i];
+            }
         }
         weight += s.w;
     }
     (ata, rhs, weight)
 }
 
-/// The Cholesky factor L (`a = L Lᵀ`) of the symmetric matrix whose lower triangle is given
-/// by columns (`a[j][i]`, i ≥ j), in the same layout; `None` unless it is positive definite
-/// (a pivot zero, negative or NaN). Column by column, each updated by the columns before it.
-fn cholesky<const N: usize>(mut a: [[f64; N]; N]) -> Option<[[f64; N]; N]> {
+/// Replaces the symmetric matrix whose lower triangle is given by columns (`a[j][i]`, i ≥ j)
+/// by its Cholesky factor L (`a = L Lᵀ`), in the same layout; false unless it is positive
+/// definite (a pivot zero, negative or NaN). Column by column, each updated by the columns
+/// before it.
+fn cholesky<const N: usize>(a: &mut [[f64; N]; N]) -> bool {
     for j in 0..N {
         let (done, rest) = a.split_at_mut(j);
         let column = &mut rest[0];
@@ -257,7 +281,7 @@ fn cholesky<const N: usize>(mut a: [[f64; N]; N]) -> Option<[[f64; N]; N]> {
         }
         let pivot = column[j];
         if pivot.is_nan() || pivot <= 0.0 {
-            return None;
+            return false;
         }
         let pivot = pivot.sqrt();
         column[j] = pivot;
@@ -265,7 +289,7 @@ fn cholesky<const N: usize>(mut a: [[f64; N]; N]) -> Option<[[f64; N]; N]> {
             *value /= pivot;
         }
     }
-    Some(a)
+    true
 }
 
 /// `|L⁻¹ m|²` for L from [`cholesky`] (`mᵀ (L Lᵀ)⁻¹ m`).
@@ -298,10 +322,42 @@ fn solve_factored<const N: usize, const K: usize>(
     }
     for i in (0..N).rev() {
         let (row, below) = b[i..].split_at_mut(1);
-        let done: [f64; K] = std::array::from_fn(|t| dot_by(&l[i][i + 1..], |k| below[k][t]));
-        row[0] = std::array::from_fn(|t| (row[0][t] - done[t]) / l[i][i]);
+        let done = dot_columns(&l[i][i + 1..], below);
+        for t in 0..K {
+            row[0][t] = (row[0][t] - done[t]) / l[i][i];
+        }
     }
     b
+}
+
+/// `Σ a[k] b[k][t]` for each column t of `b`, each summed in the order of [`dot_by`]: the
+/// columns side by side in one loop (with a closure per column, as `dot_by` takes them, the
+/// back substitution was compiled to a call per column and row).
+#[inline(always)]
+fn dot_columns<const K: usize>(a: &[f64], b: &[[f64; K]]) -> [f64; K] {
+    let mut sum = [0.0; K];
+    let mut start = 0;
+    while a.len() - start >= 8 {
+        let mut p = [[0.0; K]; 8];
+        for (k, p) in p.iter_mut().enumerate() {
+            for t in 0..K {
+                p[t] = 0.0 + a[start + k] * b[start + k][t];
+            }
+        }
+        for t in 0..K {
+            sum[t] += p[0][t] + p[4][t];
+            sum[t] += p[1][t] + p[5][t];
+            sum[t] += p[2][t] + p[6][t];
+            sum[t] += p[3][t] + p[7][t];
+        }
+        start += 8;
+    }
+    for k in start..a.len() {
+        for t in 0..K {
+            sum[t] += a[k] * b[k][t];
+        }
+    }
+    sum
 }
 
 /// `Σ a[k] b[k]` summed in nalgebra's order ([`dot_by`]).
@@ -677,9 +733,18 @@ mod tests {
 
     fn check<const N: usize>(degree: usize) {
         for samples in discs() {
-            let fit = solve::<N>(&samples, degree, true);
+            let fit = solve::<N, 3>(&samples, degree, true);
             let reference = nalgebra_fit::<N>(&samples);
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            // The heights alone: the same coefficients, residual and conditioning.
+            let heights = solve::<N, 1>(&samples, degree, true);
+            assert_eq!(heights.is_some(), fit.is_some());
+            if let (Some(heights), Some(fit)) = (heights, fit) {
+                assert_eq!(bits(&heights.coef), bits(&fit.coef));
+                assert_eq!(heights.residual.to_bits(), fit.residual.to_bits());
+                assert_eq!(heights.conditioning.to_bits(), fit.conditioning.to_bits());
+                assert!(heights.noise_coef.iter().all(|c| c.is_nan()));
+            }
             match (fit, reference) {
                 (Some(fit), Some((coef, noise, residual))) => {
                     assert_eq!(bits(&fit.coef[..N]), bits(&coef));
@@ -696,8 +761,8 @@ mod tests {
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         for samples in discs() {
             let (Some(cubic), Some(quartic)) = (
-                solve::<10>(&samples, 3, false),
-                solve::<15>(&samples, 4, false),
+                solve::<10, 3>(&samples, 3, false),
+                solve::<15, 3>(&samples, 4, false),
             ) else {
                 continue;
             };
@@ -735,8 +800,8 @@ mod tests {
                 for s in samples.iter_mut() {
                     s.z = 3f64.sqrt() * (2.0 * uniform() - 1.0);
                 }
-                let c = solve::<10>(&samples, 3, false).unwrap().coef;
-                let q = solve::<15>(&samples, 4, false).unwrap().coef;
+                let c = solve::<10, 3>(&samples, 3, false).unwrap().coef;
+                let q = solve::<15, 3>(&samples, 4, false).unwrap().coef;
                 let h = [2.0 * (q[3] - c[3]), q[4] - c[4], 2.0 * (q[5] - c[5])];
                 sum += h[0] * h[0] + 2.0 * h[1] * h[1] + h[2] * h[2];
             }
@@ -757,7 +822,7 @@ mod tests {
             -(1.0 - (1.0 - (x * x + y * y) * r * r).sqrt()) / r
         });
         let normal = Vec3::new(0.0, 0.0, 1.0);
-        let plain = solve::<15>(&samples, 4, false).unwrap();
+        let plain = solve::<15, 3>(&samples, 4, false).unwrap();
         let (plain_estimate, _, _) = plain.estimate(normal, r, None);
         let (kept, other) = plain.curved(&samples, None);
         let (estimate, _, alternative) = kept.estimate(normal, r, other.as_ref());
@@ -783,7 +848,7 @@ mod tests {
         let samples = kernel_disc(0x00C0_FFEE_0000_0042, 400, 1.0, |x, y, _| {
             -0.5 * x * x - 0.3 * y * y + 0.1 * x * x * x
         });
-        let plain = solve::<15>(&samples, 4, false).unwrap();
+        let plain = solve::<15, 3>(&samples, 4, false).unwrap();
         let (by_residual, other) = plain.curved(&samples, None);
         assert_eq!(by_residual.coef, plain.coef);
         let curved = other.expect("the curved fit is made").coef;
@@ -807,12 +872,12 @@ mod tests {
             let _ = next();
             sphere(x, y)
         });
-        let heights = solve::<15>(&clean, 4, false).unwrap();
+        let heights = solve::<15, 3>(&clean, 4, false).unwrap();
         assert!(heights.curved(&clean, None).1.is_some());
         let samples = kernel_disc(0x5EED_0F70_1100_0001, 600, 0.999, |x, y, next| {
             sphere(x, y) + 0.01 * (next() - 0.5)
         });
-        let plain = solve::<15>(&samples, 4, false).unwrap();
+        let plain = solve::<15, 3>(&samples, 4, false).unwrap();
         let (by_residual, other) = plain.curved(&samples, None);
         assert!(other.is_none());
         assert_eq!(by_residual.coef, plain.coef);

@@ -373,18 +373,40 @@ pub(super) struct SurfacePoint {
 }
 
 impl SurfacePoint {
-    /// The sample this point makes in the frame (u, w, n) centred at `p`, scaled by `1 / r`.
+    /// This point relative to the centre `p`, scaled by `1 / r`, with its weight; `None`
+    /// where the weight is not positive (outside the disc, or no area).
     #[inline]
-    pub(super) fn sample(&self, p: Vec3, [u, w, n]: [Vec3; 3], r: f64) -> Option<Sample> {
+    pub(super) fn scaled(&self, p: Vec3, r: f64) -> Option<Scaled> {
         let d = (self.position - p) / r;
         let weight = self.area * kernel(d.norm_squared());
-        (weight > 0.0).then(|| Sample {
-            x: d.dot(&u),
-            y: d.dot(&w),
-            z: d.dot(&n),
+        (weight > 0.0).then(|| Scaled {
+            d,
             w: weight,
             xi: self.noise / r,
         })
+    }
+}
+
+/// A [`SurfacePoint`] relative to the disc's centre, scaled by the inverse radius, with its
+/// weight and scaled simulated noise: a [`Sample`] before the frame is chosen.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Scaled {
+    d: Vec3,
+    w: f64,
+    xi: f64,
+}
+
+impl Scaled {
+    /// The sample this point makes in the frame (u, w, n).
+    #[inline]
+    pub(super) fn sample(&self, [u, w, n]: [Vec3; 3]) -> Sample {
+        Sample {
+            x: self.d.dot(&u),
+            y: self.d.dot(&w),
+            z: self.d.dot(&n),
+            w: self.w,
+            xi: self.xi,
+        }
     }
 }
 
