@@ -131,14 +131,15 @@ pub(super) fn solve_nested(samples: &[Sample]) -> Option<Nested> {
         g3[k][t] = scale;
     }
     let (u4, u3) = (solve_factored(&l4, g4), solve_factored(&l3, g3));
-    let difference: [[f64; 15]; 3] = std::array::from_fn(|t| {
-        std::array::from_fn(|i| u4[i][t] - if i < 10 { u3[i][t] } else { 0.0 })
+    // `u₄ − u₃` by rows (`difference[i][t]`: coefficient i of functional t).
+    let difference: [[f64; 3]; 15] = std::array::from_fn(|i| {
+        std::array::from_fn(|t| u4[i][t] - if i < 10 { u3[i][t] } else { 0.0 })
     });
     let mut extra_variance = 0.0;
     for s in samples {
         let m = monomials::<15>(s.x, s.y);
-        for u in &difference {
-            let a = s.w * dot(&m, u);
+        for d in dot_columns(&m, &difference) {
+            let a = s.w * d;
             extra_variance += a * a;
         }
     }
