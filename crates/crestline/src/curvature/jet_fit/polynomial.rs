@@ -203,9 +203,11 @@ fn solve_system<const N: usize, const K: usize>(
     let (mut sq, mut noise_sq) = (f64::NAN, f64::NAN);
     if residual {
         (sq, noise_sq) = (0.0, weight);
+        let heights: [[f64; 1]; N] = x.map(|c| [c]);
         for s in samples {
             let m = monomials::<N>(s.x, s.y);
-            let r = dot(&m, &x) - s.z;
+            let [fitted] = dot_columns(&m, &heights);
+            let r = fitted - s.z;
             sq += s.w * r * r;
             noise_sq -= s.w * s.w * forward_squared(&l, m);
         }
@@ -331,9 +333,10 @@ fn solve_factored<const N: usize, const K: usize>(
     b
 }
 
-/// `Σ a[k] b[k][t]` for each column t of `b`, each summed in the order of [`dot_by`]: the
-/// columns side by side in one loop (with a closure per column, as `dot_by` takes them, the
-/// back substitution was compiled to a call per column and row).
+/// `Σ a[k] b[k][t]` for each column t of `b`, each summed in the order of nalgebra's `dot`:
+/// eight partial sums per block of eight, then the rest one by one (the order decides the
+/// rounding). The columns side by side in one loop: with a closure per column the back
+/// substitution was compiled to a call per column and row.
 #[inline(always)]
 fn dot_columns<const K: usize>(a: &[f64], b: &[[f64; K]]) -> [f64; K] {
     let mut sum = [0.0; K];
@@ -357,31 +360,6 @@ fn dot_columns<const K: usize>(a: &[f64], b: &[[f64; K]]) -> [f64; K] {
         for t in 0..K {
             sum[t] += a[k] * b[k][t];
         }
-    }
-    sum
-}
-
-/// `Σ a[k] b[k]` summed in nalgebra's order ([`dot_by`]).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    dot_by(a, |k| b[k])
-}
-
-/// `Σ a[k] b(k)` over `a`, summed in the order of nalgebra's `dot`: eight partial sums per
-/// block of eight, then the rest one by one. (The order decides the rounding.)
-#[inline(always)]
-fn dot_by(a: &[f64], b: impl Fn(usize) -> f64) -> f64 {
-    let mut sum = 0.0;
-    let mut start = 0;
-    while a.len() - start >= 8 {
-        let p: [f64; 8] = std::array::from_fn(|k| 0.0 + a[start + k] * b(start + k));
-        sum += p[0] + p[4];
-        sum += p[1] + p[5];
-        sum += p[2] + p[6];
-        sum += p[3] + p[7];
-        start += 8;
-    }
-    for (k, &ak) in a.iter().enumerate().skip(start) {
-        sum += ak * b(k);
     }
     sum
 }
