@@ -18,6 +18,7 @@ CASES = [
     ("bumpy/mc", []),
     ("ring/reg5k", []),
     ("ridge/noisy20k", []),
+    ("ridge/noisy20k", ["--smooth-along", "1.5"]),
     ("bumpy/noisy20k", []),
     ("bumpy/noisy20k", ["--no-debias"]),
     ("bumpy/noisy20k", ["--method", "ybs", "--keep-unlocated"]),
@@ -49,7 +50,9 @@ def python_options(args):
             continue
         if name in ("smooth_steps", "rings", "pre_smooth", "degree"):
             value = int(value)
-        elif name in ("radius", "min_length", "fair", "crease_angle", "direction_support"):
+        elif name in (
+            "radius", "min_length", "fair", "crease_angle", "direction_support", "smooth_along"
+        ):
             value = float(value)
         elif name == "creases" and value not in ("auto", "off"):
             value = float(value)

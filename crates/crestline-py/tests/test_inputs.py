@@ -298,6 +298,20 @@ def test_a_smoothing_option_makes_the_smoothing_run_on_a_clean_mesh(fandisk):
         crestline.extract(vertices, faces, smooth_steps=0, smooth_time=1.0)
 
 
+def test_smoothing_along_the_lines_shapes_white_noise_only(fandisk):
+    # The jet fit finds the noise of the public noisy ridge white: there the factor changes
+    # the lines. Fandisk is clean (no smoothing runs), and `smooth_along` does not make it run.
+    vertices, faces = crestline.read_mesh(case_path("ridge/noisy20k"))
+    default = crestline.extract(vertices, faces)
+    isotropic = crestline.extract(vertices, faces, smooth_along=1.0)
+    assert not np.array_equal(default.points, isotropic.points)
+    np.testing.assert_array_equal(
+        crestline.extract(*fandisk).points, crestline.extract(*fandisk, smooth_along=1.0).points
+    )
+    with pytest.raises(ValueError, match="smooth_along: .* does not run with smooth_steps=0"):
+        crestline.extract(*fandisk, smooth_steps=0, smooth_along=2.0)
+
+
 def test_negative_mask_factors_are_refused_before_the_work(fandisk):
     vertices, faces = fandisk
     with pytest.raises(ValueError, match=r"mask_spheres\[0\]: factor -1.* >= 0"):
@@ -529,6 +543,8 @@ def test_docstrings_name_the_command_line_flags():
         ({"min_length": -0.01}, "minimum line length"),
         ({"fair": float("inf")}, "fairing tolerance"),
         ({"smooth_time": 0.0}, "smoothing time step"),
+        ({"smooth_along": 0.0}, "smoothing factor along the lines"),
+        ({"smooth_along": float("nan")}, "smoothing factor along the lines"),
         ({"crease_angle": 1000.0}, "crease angle"),
         ({"crease_angle": -5.0}, "-5"),
     ],

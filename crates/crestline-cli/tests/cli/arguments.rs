@@ -180,3 +180,30 @@ fn negative_mask_factors_are_refused_as_they_are_parsed() {
     }
     assert!(listing(dir.path()).is_empty());
 }
+
+#[test]
+fn smoothing_along_the_lines_out_of_range_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.obj");
+    for (extra, says) in [
+        (
+            vec!["--smooth-along", "0"],
+            "expected a number > 0, got '0'",
+        ),
+        (
+            vec!["--smooth-along", "-3"],
+            "expected a number > 0, got '-3'",
+        ),
+        (vec!["--smooth-along", "1e7"], "at most 1e6"),
+        (
+            vec!["--smooth-along", "2", "--smooth-steps", "0"],
+            "--smooth-along: the extremality smoothing they set does not run with --smooth-steps 0",
+        ),
+    ] {
+        let mut all = vec!["extract", FANDISK, "-o", s(&out)];
+        all.extend(&extra);
+        let err = fails(crestline(&all));
+        assert!(err.contains(says), "{all:?}: {err}");
+    }
+    assert!(listing(dir.path()).is_empty());
+}

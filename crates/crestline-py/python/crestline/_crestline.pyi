@@ -106,6 +106,7 @@ def extract(
     min_length: Optional[float] = None,
     smooth_steps: Optional[int] = None,
     smooth_time: Optional[float] = None,
+    smooth_along: Optional[float] = None,
     crease_angle: Optional[float] = None,
     creases: Optional[Creases] = None,
     direction_support: Optional[float] = None,
@@ -138,6 +139,9 @@ def extract(
       has several (default 0.01).
     - smooth_steps (default 2, run on noisy surfaces; a number always runs them; at most 1000), smooth_time
       (default 1, relative to the squared mean edge length).
+    - smooth_along: on meshes whose noise the jet fit finds white, the extremality smoothing
+      runs this many times faster along the lines than across (default 3; 1 is HPW's
+      isotropic smoothing); other meshes are smoothed isotropically.
     - crease_angle: degrees (default 0.3 rad, about 17.2; 0 with no_twicing is HPW's plain smoothing).
     - creases: sharp creases, "auto" (default: above the gap in the histogram of dihedral
       angles; on a noisy mesh without one, the gap between face normals filtered within the

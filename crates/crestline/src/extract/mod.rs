@@ -113,7 +113,8 @@ use std::time::{Duration, Instant};
 
 pub use options::{
     DEFAULT_MIN_LENGTH, ExtractOptions, HPW_DEFAULT_THRESHOLD, HpwOptions, MAX_SMOOTHING_STEPS,
-    Method, MwzOptions, Pipeline, YBS_DEFAULT_SMOOTHING_STEPS, YBS_DEFAULT_THRESHOLD, YbsOptions,
+    Method, MwzOptions, Pipeline, WHITE_NOISE_ALONG_LINES, YBS_DEFAULT_SMOOTHING_STEPS,
+    YBS_DEFAULT_THRESHOLD, YbsOptions,
 };
 
 use crate::curvature::{self, Curvature, Estimator};
@@ -130,9 +131,7 @@ use crate::lines::{
 };
 use crate::mesh::{Orientation, TriMesh, orientation, reverse_faces};
 use crate::saliency::mesh_saliency;
-use crate::smoothing::extremality::{
-    ExtremalitySmoothing, smooth_extremalities, smooth_extremalities_split,
-};
+use crate::smoothing::extremality::{smooth_extremalities, smooth_extremalities_split};
 use crate::smoothing::surface::smooth_surface;
 use crate::threshold::{ChosenThreshold, NoKnee, choose_threshold};
 
@@ -345,14 +344,13 @@ pub fn extract_with_progress(
     let white_noise = curvature.jet_fit.is_some_and(|r| r.white_noise());
     if options.smoothing.steps > 0 && !skip {
         let t = clock.begin(Stage::ExtremalitySmoothing);
-        let smoothing = if debias && white_noise {
-            Cow::Owned(ExtremalitySmoothing {
-                measure_drift: true,
-                ..options.smoothing.clone()
-            })
-        } else {
-            Cow::Borrowed(&options.smoothing)
-        };
+        // On white noise: along the lines as the options say, and the drift measured when
+        // the lines will be moved back by it.
+        let mut smoothing = Cow::Borrowed(&options.smoothing);
+        if white_noise {
+            smoothing.to_mut().along_lines = options.white_noise_along_lines;
+            smoothing.to_mut().measure_drift |= debias;
+        }
         match split {
             Some(creases) => {
                 smooth_extremalities_split(surface, &mut curvature, &smoothing, creases)?

@@ -19,6 +19,8 @@
 //! each cotangent capped at ±[`MAX_COT`] (slivers), and a negative total (an edge opposite
 //! two obtuse angles) is clamped to zero. With non-negative weights the operator stays
 //! positive semi-definite, so every implicit step is unconditionally stable.
+//! [`along_line_weights`] are the weights of an anisotropic diffusion (faster along a
+//! direction field), capped and clamped alike.
 
 pub mod cholesky;
 pub mod extremality;
@@ -57,22 +59,81 @@ fn cotan_weight(mesh: &TriMesh, positions: &[Vec3], e: u32) -> f64 {
     let w: f64 = topo
         .edge_faces(e)
         .iter()
-        .map(|&f| {
-            let t = faces[f as usize];
-            let c = t.iter().copied().find(|&x| x != a && x != b).unwrap_or(a);
-            let pc = positions[c as usize];
-            let (u, v) = (positions[a as usize] - pc, positions[b as usize] - pc);
-            let sin = u.cross(&v).norm();
-            let cos = u.dot(&v);
-            let cot = if sin > 0.0 {
-                cos / sin
-            } else {
-                MAX_COT.copysign(cos)
-            };
-            0.5 * cot.clamp(-MAX_COT, MAX_COT)
-        })
+        .map(|&f| 0.5 * opposite_cot(faces[f as usize], positions, [a, b]))
         .sum();
     w.max(0.0)
+}
+
+/// The cotangent of the angle of triangle `t` opposite its edge `[a, b]`, capped at
+/// ±[`MAX_COT`].
+#[inline]
+fn opposite_cot(t: [u32; 3], positions: &[Vec3], [a, b]: [u32; 2]) -> f64 {
+    let c = t.iter().copied().find(|&x| x != a && x != b).unwrap_or(a);
+    let pc = positions[c as usize];
+    let (u, v) = (positions[a as usize] - pc, positions[b as usize] - pc);
+    let sin = u.cross(&v).norm();
+    let cos = u.dot(&v);
+    let cot = if sin > 0.0 {
+        cos / sin
+    } else {
+        MAX_COT.copysign(cos)
+    };
+    cot.clamp(-MAX_COT, MAX_COT)
+}
+
+/// Per-edge weights, indexed like [`crate::mesh::Topology::edges`], of the diffusion that is
+/// `factor` times faster along the direction field `along` (per vertex, unit, sign
+/// irrelevant) than across it: the linear finite-element stiffness
+/// `∫ ∇φ_p · D ∇φ_q` with, per face, `D = P + (factor − 1) T`, `P` the projection onto the
+/// face's plane and `T` the mean of `s sᵀ` over its three corners' directions `s`. With
+/// `factor` 1 these are the cotan weights. Each face's share of the anisotropic part is
+/// capped at `(factor − 1)` · [`MAX_COT`] / 2 in magnitude, as a cotangent is, and a negative
+/// total is clamped to zero, as for [`cotan_weights`]: the operator stays positive
+/// semi-definite. Faces without area add nothing to it.
+pub fn along_line_weights(mesh: &TriMesh, along: &[Vec3], factor: f64) -> Vec<f64> {
+    let topo = mesh.topology();
+    let (faces, positions) = (mesh.faces(), mesh.positions());
+    let cap = (factor - 1.0).abs() * 0.5 * MAX_COT;
+    (0..topo.num_edges() as u32)
+        .into_par_iter()
+        .map(|e| {
+            let [a, b] = topo.edge(e);
+            let along_part: f64 = topo
+                .edge_faces(e)
+                .iter()
+                .map(|&f| {
+                    let t = faces[f as usize];
+                    let c = t.iter().copied().find(|&x| x != a && x != b).unwrap_or(a);
+                    let [pa, pb, pc] = [a, b, c].map(|v| positions[v as usize]);
+                    let cross = (pb - pa).cross(&(pc - pa));
+                    let twice_area = cross.norm();
+                    if twice_area <= 0.0 || twice_area.is_nan() {
+                        return 0.0;
+                    }
+                    // The gradients of the hat functions of a and b, in the face's plane.
+                    let n = cross / twice_area;
+                    let grad_a = n.cross(&(pc - pb)) / twice_area;
+                    let grad_b = n.cross(&(pa - pc)) / twice_area;
+                    let t_part: f64 = [a, b, c]
+                        .iter()
+                        .map(|&v| {
+                            let s = along[v as usize];
+                            grad_a.dot(&s) * grad_b.dot(&s)
+                        })
+                        .sum::<f64>()
+                        / 3.0;
+                    // The weight is minus the stiffness entry.
+                    (-(factor - 1.0) * 0.5 * twice_area * t_part).clamp(-cap, cap)
+                })
+                .sum();
+            let isotropic: f64 = topo
+                .edge_faces(e)
+                .iter()
+                .map(|&f| 0.5 * opposite_cot(faces[f as usize], positions, [a, b]))
+                .sum();
+            (isotropic + along_part).max(0.0)
+        })
+        .collect()
 }
 
 /// Lumped mass: a third of the area of each vertex's star. Vertices without faces get the
@@ -378,6 +439,42 @@ impl<'m> DiffusionOperator<'m> {
 mod tests {
     use super::*;
     use crate::shapes;
+
+    /// On a square grid split along diagonals (right isosceles triangles), the diffusion
+    /// `factor` times faster along x is the five-point stencil with weight `factor` on the
+    /// x-edges, 1 on the y-edges and 0 on the diagonals (interior edges; boundary edges have
+    /// one face and half of it). With factor 1 the weights are the cotan weights.
+    #[test]
+    fn along_line_weights_on_a_square_grid() {
+        let n = 6;
+        for pattern in [
+            shapes::GridPattern::Uniform,
+            shapes::GridPattern::Alternating,
+        ] {
+            let m = shapes::height_field_with(|_, _| 0.0, [0.0, 1.0], [0.0, 1.0], n, n, pattern);
+            let along = vec![Vec3::x(); m.num_vertices()];
+            assert_eq!(
+                along_line_weights(&m, &along, 1.0),
+                cotan_weights(&m, m.positions())
+            );
+            let weights = along_line_weights(&m, &along, 3.0);
+            for (e, (&[a, b], &w)) in m.topology().edges().iter().zip(&weights).enumerate() {
+                let d = m.position(b) - m.position(a);
+                let share = m.topology().edge_faces(e as u32).len() as f64 / 2.0;
+                let expected = if d.y.abs() < 1e-12 {
+                    3.0 * share
+                } else if d.x.abs() < 1e-12 {
+                    share
+                } else {
+                    0.0
+                };
+                assert!(
+                    (w - expected).abs() < 1e-9,
+                    "{pattern:?} edge {d:?}: {w} against {expected}"
+                );
+            }
+        }
+    }
 
     /// Two implicit steps of a field of curvature units (1/length²) on `mesh` scaled by
     /// `scale`, with the time step of the extremality smoothing (the squared edge length),
