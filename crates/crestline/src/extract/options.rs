@@ -37,12 +37,13 @@ pub const DEFAULT_MIN_LENGTH: f64 = 0.01;
 pub const YBS_DEFAULT_SMOOTHING_STEPS: usize = 2;
 /// Default of [`ExtractOptions::white_noise_along_lines`]: on white noise the extremalities
 /// diffuse three times faster along their lines than across (across as HPW smooth).
-/// Measured, HPW, on 80 noisy surfaces made like the public ones (not in `../shared`; the
-/// public five and six further height fields, moved along their normals by 0.07, 0.1 and
-/// 0.15 of the mean edge, regular and irregular meshes; BENCHMARKS.md, *Smoothing along the
-/// lines*): the mean F1 of each set rises, the most on long weak crests (MATLAB's peaks +0.04
-/// to +0.09, the public ridge +0.02 to +0.04); crest lines that curve tightly lose a little (bumps
-/// and blobs up to −0.02). 2 gains less, 4 gains a little more and loses more on the bumps.
+/// Measured, HPW, on 80 noisy surfaces made like the public ones (not in `../shared`: the
+/// public five and six further height fields moved along their normals by 0.07, 0.1 and 0.15
+/// of the mean edge, regular and irregular meshes, `bench/quality/noisy_cases.py`;
+/// BENCHMARKS.md, *Smoothing along the lines on white noise*): mean F1 0.898 → 0.916, each
+/// set's mean up, the most on long weak crests (MATLAB's peaks +0.04 to +0.14 per set); the
+/// bumps and blobs, whose crests curve within a few spacings, lose up to 0.03 per set. 2
+/// gains less; 4 gains a little more and loses more on the bumps.
 pub const WHITE_NOISE_ALONG_LINES: f64 = 3.0;
 
 /// Options of the HPW pipeline's own steps: tracing in regular and singular triangles, then
@@ -284,7 +285,7 @@ pub struct ExtractOptions {
     /// without moving the zero across. 1 is HPW's isotropic smoothing. Elsewhere (scans whose
     /// residual is fine detail, clean meshes) the smoothing is as
     /// [`ExtractOptions::smoothing`] says: on igea, whose residual is not white, 3 would drop
-    /// a quarter of the lines, the forehead's and the chin's ridges among them.
+    /// a fifth of the lines (480 → 376), two of the forehead's three ridges among them.
     ///
     /// Default: [`WHITE_NOISE_ALONG_LINES`].
     pub white_noise_along_lines: f64,

@@ -562,8 +562,14 @@ impl<'m> ExtremalitySmoother<'m> {
             None => self
                 .operator
                 .steps_within(&mut [e_max, e_min], count, tolerance),
-            Some(min_operator) => Ok(self.operator.steps_within(&mut [e_max], count, tolerance)?
-                + min_operator.steps_within(&mut [e_min], count, tolerance)?),
+            Some(min_operator) => {
+                // The two families side by side.
+                let (max, min) = rayon::join(
+                    || self.operator.steps_within(&mut [e_max], count, tolerance),
+                    || min_operator.steps_within(&mut [e_min], count, tolerance),
+                );
+                Ok(max? + min?)
+            }
         }
     }
 }
