@@ -30,30 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-
-def read_obj(path):
-    vertices, faces = [], []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("v "):
-                vertices.append([float(x) for x in line.split()[1:4]])
-            elif line.startswith("f "):
-                faces.append([int(w.split("/")[0]) - 1 for w in line.split()[1:4]])
-    return np.array(vertices), np.array(faces)
-
-
-def noisy(vertices, faces, level, rng):
-    corners = vertices[faces]
-    face_normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    normals = np.zeros_like(vertices)
-    for k in range(3):
-        np.add.at(normals, faces[:, k], face_normals)
-    length = np.linalg.norm(normals, axis=1)
-    # Vertices without faces keep their place.
-    normals /= np.where(length > 0, length, 1.0)[:, None]
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    mean_edge = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1).mean()
-    return vertices + normals * rng.normal(0.0, level * mean_edge, len(vertices))[:, None]
+from noisy_parts import along_normals, read_obj
 
 
 def main():
@@ -78,7 +55,7 @@ def main():
             vertices, faces = read_obj(cases / name / f"{args.mesh}.obj")
             for seed in seeds:
                 rng = np.random.default_rng([seed, zlib.crc32(name.encode())])
-                moved = noisy(vertices, faces, args.level, rng)
+                moved = along_normals(vertices, faces, args.level, rng)
                 folder = out / f"{name}-s{seed}"
                 folder.mkdir(exist_ok=True)
                 with open(folder / "noisy20k.obj", "w") as f:

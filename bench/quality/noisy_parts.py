@@ -30,6 +30,19 @@ def read_obj(path):
     return np.array(vertices), np.array(faces)
 
 
+def along_normals(v, f, level, rng):
+    """The vertices `v` moved along their area-weighted normals by normal numbers of standard
+    deviation `level` times the mean edge length (all edges); vertices without faces stay."""
+    edges = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    mean_edge = np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1).mean()
+    area_normals = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    normals = np.zeros_like(v)
+    for k in range(3):
+        np.add.at(normals, f[:, k], area_normals)
+    normals /= np.maximum(np.linalg.norm(normals, axis=1), 1e-300)[:, None]
+    return v + normals * rng.normal(0.0, level * mean_edge, len(v))[:, None]
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -42,17 +55,10 @@ def main():
     levels = [float(x) for x in args.levels.split(",")]
     for path in sorted(glob.glob(os.path.join(args.parts, "*-uniform.obj"))):
         v, f = read_obj(path)
-        edges = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
-        mean_edge = np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1).mean()
-        area_normals = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
-        normals = np.zeros_like(v)
-        for k in range(3):
-            np.add.at(normals, f[:, k], area_normals)
-        normals /= np.maximum(np.linalg.norm(normals, axis=1), 1e-300)[:, None]
         name = os.path.basename(path)[:-4]
         for level in levels:
             rng = np.random.default_rng([args.seed, int(round(level * 1000))])
-            moved = v + normals * rng.normal(0.0, level * mean_edge, len(v))[:, None]
+            moved = along_normals(v, f, level, rng)
             stem = os.path.join(args.out, f"{name}-n{int(round(level * 100)):02d}s{args.seed}")
             with open(stem + ".obj", "w") as out:
                 out.writelines("v %.9g %.9g %.9g\n" % tuple(p) for p in moved)
