@@ -40,7 +40,7 @@ use crestline::curvature::Estimator;
 ///   run when the curvature estimate finds the surface noisy; giving a number always runs
 ///   them; at most 1000) and step size relative to the squared mean edge length (default 1).
 /// - `smooth_along`: on meshes whose noise the jet fit finds white, the extremality smoothing
-///   runs this many times faster along the lines than across them (default 3; 1 is HPW's
+///   runs up to this many times faster along the lines than across them (default 3; 1 is HPW's
 ///   isotropic smoothing); other meshes are smoothed isotropically.
 /// - `crease_angle`: damp the smoothing across curvature jumps of about this angle, in
 ///   degrees (default 0.3 rad, about 17.2; 0 with `no_twicing` is HPW's plain smoothing).
@@ -155,7 +155,7 @@ pub fn extract(
     refuse_unused_options(
         method,
         &estimator,
-        [no_gaps, no_debias, keep_unlocated],
+        [no_gaps, no_debias, keep_unlocated, smooth_along.is_some()],
         &options,
     )?;
     // `mesh_from_arrays` orients the mesh, unless `keep_orientation`.
@@ -237,13 +237,13 @@ pub fn extract(
 }
 
 /// Refuses the options that `method` and the estimator that runs would not use, as the
-/// command-line tool does, naming the arguments: `no_gaps` but for YBS, `no_debias` but
-/// with the jet fit, `keep_unlocated` but for HPW and YBS with the jet fit, and the options
-/// of another estimator ([`EstimatorArguments::unused`]).
+/// command-line tool does, naming the arguments: `no_gaps` but for YBS, `no_debias` and
+/// `smooth_along` but with the jet fit, `keep_unlocated` but for HPW and YBS with the jet
+/// fit, and the options of another estimator ([`EstimatorArguments::unused`]).
 fn refuse_unused_options(
     method: Method,
     estimator: &EstimatorArguments,
-    [no_gaps, no_debias, keep_unlocated]: [bool; 3],
+    [no_gaps, no_debias, keep_unlocated, smooth_along]: [bool; 4],
     defaults: &ExtractOptions,
 ) -> PyResult<()> {
     let mut unused = Vec::new();
@@ -255,6 +255,13 @@ fn refuse_unused_options(
         unused.push(
             "no_debias (the lines are moved back by the jet fit's bias only; the papers' \
              estimators read no disc)"
+                .to_owned(),
+        );
+    }
+    if smooth_along && estimator.estimator(defaults.curvature.estimator) != Estimator::JetFit {
+        unused.push(
+            "smooth_along (only the jet fit tells white noise; the papers' estimators are \
+             smoothed as HPW smooth)"
                 .to_owned(),
         );
     }

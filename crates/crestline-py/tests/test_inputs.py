@@ -462,6 +462,7 @@ def test_curvature_names_the_unused_options(fandisk, options, message):
         ({"rings": 2, "no_debias": True}, "would not use: no_debias .the lines are moved back by the jet fit's bias only"),
         ({"method": "saliency", "keep_unlocated": True}, r"^options that method 'saliency' would not use: keep_unlocated \(HPW and YBS drop"),
         ({"rings": 2, "keep_unlocated": True}, "would not use: keep_unlocated .only the jet fit measures the noise"),
+        ({"rings": 2, "smooth_along": 2.0}, "would not use: smooth_along .only the jet fit tells white noise"),
         (
             {"no_gaps": True, "radius": 3, "estimator": "cubic-fit"},
             "would not use: no_gaps .gap jumping is part of method 'ybs' only.; radius .it applies",

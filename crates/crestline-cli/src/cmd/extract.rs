@@ -110,8 +110,8 @@ pub struct Args {
     #[arg(long)]
     pub no_twicing: bool,
     /// On meshes whose noise the jet fit finds white (`--stats` says so), the extremality
-    /// smoothing runs this many times faster along the lines than across them, which takes
-    /// out more of the noise without moving the lines across (default 3; 1 is HPW's
+    /// smoothing runs up to this many times faster along the lines than across them, which
+    /// takes out more of the noise without moving the lines across (default 3; 1 is HPW's
     /// isotropic smoothing; above 0 and at most 1e6). Other meshes are smoothed isotropically.
     #[arg(long, value_name = "FACTOR", value_parser = positive, allow_negative_numbers = true)]
     pub smooth_along: Option<f64>,
@@ -537,6 +537,15 @@ fn check_method_options(args: &Args) -> Result<()> {
         unused.push(
             "--no-debias (the lines are moved back by the jet fit's bias only; the papers' \
              estimators read no disc)"
+                .into(),
+        );
+    }
+    if args.smooth_along.is_some()
+        && args.estimator.estimator(defaults.curvature.estimator) != Estimator::JetFit
+    {
+        unused.push(
+            "--smooth-along (only the jet fit tells white noise; the papers' estimators are \
+             smoothed as HPW smooth)"
                 .into(),
         );
     }

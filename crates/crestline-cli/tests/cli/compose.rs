@@ -438,6 +438,10 @@ fn one_meaning_per_flag_and_ranges_checked_up_front() {
         (vec!["--rings", "2", "--no-debias"], "--no-debias"),
         (vec!["--rings", "2", "--keep-unlocated"], "--keep-unlocated"),
         (
+            vec!["--estimator", "shape-operator", "--smooth-along", "2"],
+            "--smooth-along",
+        ),
+        (
             vec!["--method", "saliency", "--keep-unlocated"],
             "--keep-unlocated",
         ),

@@ -140,7 +140,7 @@ def extract(
     - smooth_steps (default 2, run on noisy surfaces; a number always runs them; at most 1000), smooth_time
       (default 1, relative to the squared mean edge length).
     - smooth_along: on meshes whose noise the jet fit finds white, the extremality smoothing
-      runs this many times faster along the lines than across (default 3; 1 is HPW's
+      runs up to this many times faster along the lines than across (default 3; 1 is HPW's
       isotropic smoothing); other meshes are smoothed isotropically.
     - crease_angle: degrees (default 0.3 rad, about 17.2; 0 with no_twicing is HPW's plain smoothing).
     - creases: sharp creases, "auto" (default: above the gap in the histogram of dihedral

@@ -36,14 +36,15 @@ pub const DEFAULT_MIN_LENGTH: f64 = 0.01;
 /// has none; see the module docs of [`crate::extract`] for why and what it costs).
 pub const YBS_DEFAULT_SMOOTHING_STEPS: usize = 2;
 /// Default of [`ExtractOptions::white_noise_along_lines`]: on white noise the extremalities
-/// diffuse three times faster along their lines than across (across as HPW smooth).
+/// diffuse up to three times faster along their lines than across (across as HPW smooth).
 /// Measured, HPW, on 80 noisy surfaces made like the public ones (not in `../shared`: the
 /// public five and six further height fields moved along their normals by 0.07, 0.1 and 0.15
 /// of the mean edge, regular and irregular meshes, `bench/quality/noisy_cases.py`;
-/// BENCHMARKS.md, *Smoothing along the lines on white noise*): mean F1 0.898 → 0.916, each
-/// set's mean up, the most on long weak crests (MATLAB's peaks +0.04 to +0.14 per set); the
-/// bumps and blobs, whose crests curve within a few spacings, lose up to 0.03 per set. 2
-/// gains less; 4 gains a little more and loses more on the bumps.
+/// BENCHMARKS.md, *Smoothing along the lines on white noise*): mean F1 0.898 → 0.907, each
+/// set's mean up (+0.002 to +0.023), 34 surfaces up and 7 down by more than 0.005, the most
+/// on long weak crests (the public ridge and ellipsoid, MATLAB's peaks on irregular meshes);
+/// crests that curve within a few spacings lose a little (a bumpy sphere −0.054, blobs
+/// −0.027). 6 and 10 gain a little more (0.909, 0.911) and lose more often (11 down).
 pub const WHITE_NOISE_ALONG_LINES: f64 = 3.0;
 
 /// Options of the HPW pipeline's own steps: tracing in regular and singular triangles, then
@@ -278,14 +279,16 @@ pub struct ExtractOptions {
     pub smooth_only_noisy: bool,
     /// Where the jet fit finds the surface's noise white
     /// ([`crate::curvature::JetFitReport::white_noise`]; of the shared scans and models only
-    /// the teapot), the extremality smoothing runs this many times faster along each family's
-    /// lines than across them ([`ExtremalitySmoothing::along_lines`], which it replaces
-    /// there): the fit leaves noise in the extremalities that is correlated over its disc,
-    /// and a weak crest's zero wanders with it; averaging along the line takes more of it out
-    /// without moving the zero across. 1 is HPW's isotropic smoothing. Elsewhere (scans whose
-    /// residual is fine detail, clean meshes) the smoothing is as
-    /// [`ExtractOptions::smoothing`] says: on igea, whose residual is not white, 3 would drop
-    /// a fifth of the lines (480 → 376), two of the forehead's three ridges among them.
+    /// the teapot), the extremality smoothing runs up to this many times faster along each
+    /// family's lines than across them ([`ExtremalitySmoothing::along_lines`], which it
+    /// replaces there): the fit leaves noise in the extremalities that is correlated over its
+    /// disc, and a weak crest's zero wanders with it; averaging along the line takes more of it
+    /// out without moving the zero across. 1 is HPW's isotropic smoothing. Elsewhere (scans
+    /// whose residual is fine detail, clean meshes) the smoothing is as
+    /// [`ExtractOptions::smoothing`] says: on igea, whose residual is not white, smoothing along
+    /// the lines (a first version, which also diffused faster across them where the triangles
+    /// do not follow the lines) dropped a fifth of the lines (480 → 376), two of the forehead's
+    /// three ridges among them.
     ///
     /// Default: [`WHITE_NOISE_ALONG_LINES`].
     pub white_noise_along_lines: f64,
@@ -410,9 +413,15 @@ impl ExtractOptions {
             ),
             (
                 self.white_noise_along_lines > 0.0
-                    && self.white_noise_along_lines <= MAX_SMOOTHING_TIME_STEP,
+                    && self.white_noise_along_lines <= MAX_ALONG_LINES,
                 "smoothing factor along the lines",
                 self.white_noise_along_lines,
+                "above 0 and at most 1e6",
+            ),
+            (
+                self.smoothing.along_lines > 0.0 && self.smoothing.along_lines <= MAX_ALONG_LINES,
+                "smoothing factor along the lines",
+                self.smoothing.along_lines,
                 "above 0 and at most 1e6",
             ),
         ];
@@ -476,6 +485,11 @@ pub const MAX_SMOOTHING_STEPS: usize = 1000;
 /// lines left from 1e4 and 1e6) while the implicit system loses the precision its solver
 /// needs (conjugate gradients broke down at 1e15 on both, and 1e300 overflows).
 const MAX_SMOOTHING_TIME_STEP: f64 = 1e6;
+
+/// The largest factor of the smoothing along the lines
+/// ([`ExtractOptions::white_noise_along_lines`]): far beyond any use, and well within the
+/// weights' range.
+const MAX_ALONG_LINES: f64 = 1e6;
 
 impl Default for ExtractOptions {
     fn default() -> Self {

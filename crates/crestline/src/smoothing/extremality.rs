@@ -7,7 +7,9 @@
 //! whole mesh (singular triangles included). Here each step is implicit,
 //! `(M + t L_σ) e' = M e` ([`super::system`], solved through [`super::DiffusionOperator`]);
 //! the two families share the weights, differ in their signs, and are solved together (by
-//! default with conjugate gradients in mixed precision, [`super::mixed_precision`]).
+//! default with conjugate gradients in mixed precision, [`super::mixed_precision`]); smoothed
+//! along their lines (below) each family has weights and an operator of its own, and the two
+//! are solved side by side.
 //!
 //! The result does not depend on the initial choice of signs: flipping `dir(p)` flips `e(p)`
 //! and every `σ_pq` at `p`, i.e. conjugates the system by a diagonal ±1 matrix.
@@ -49,13 +51,17 @@
 //! the smoothing mixes in from across it; along the line, e is near zero on both sides. Each
 //! family can therefore be smoothed faster along its own lines than across them: the ridges'
 //! e_max along the min directions, the valleys' e_min along the max directions. The operator
-//! is the linear finite-element diffusion with the tensor `P + (a − 1) T` per face
-//! ([`super::along_line_weights`]): as HPW's across the lines, `a` times faster along them.
-//! The noise the jet fit leaves in e is correlated over its disc, so a weak crest's zero
-//! wanders over a disc's length; isotropic smoothing long enough to take that out also mixes
-//! neighbouring crests (public `bumpy/noisy20k`, four times the time: 0.867 → 0.688), along
-//! the lines it does not as much (0.857 at `a` = 3, with the noisy ridge 0.962 → 0.971 and
-//! the noisy ellipsoid 0.991 → 1.000). It costs one operator per family.
+//! is the linear finite-element diffusion with the tensor `P + θ (a − 1) T` per face
+//! ([`super::along_line_weights`]): across the lines HPW's, along them up to `a` times faster
+//! where the triangles have edges along the lines. (With θ = 1 everywhere, a face whose edges
+//! cross the lines at an angle gets negative weights; clamped, they diffused across the lines
+//! up to `a` times faster too, a spread that depended on the triangulation.) The noise the
+//! jet fit leaves in e is correlated over its disc, so a weak crest's zero wanders over a
+//! disc's length; isotropic smoothing long enough to take that out also mixes neighbouring
+//! crests (public `bumpy/noisy20k`, four times the time: 0.867 → 0.688). Along the lines, at
+//! `a` = 3: 0.860, the noisy ridge 0.962 → 0.966, the noisy ellipsoid 0.991 → 1.000; on 80
+//! noisy surfaces made like the public ones 0.898 → 0.907 (BENCHMARKS.md). It costs one
+//! operator per family, solved side by side.
 //!
 //! Time step: `t = time_step · h²` with `h` the mean edge length, so the same options behave
 //! the same on meshes of any scale; one step diffuses over roughly `sqrt(time_step)` rings.
@@ -66,7 +72,9 @@ use crate::curvature::Curvature;
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, Vec3, mean_edge_length};
 
-use super::{DiffusionOperator, LinearSolver, along_line_weights, cotan_weights_and_mass};
+use super::{
+    DiffusionOperator, LinearSolver, along_line_weights, cotan_weights_and_mass, lumped_mass,
+};
 
 /// Options of [`smooth_extremalities`].
 #[derive(Debug, Clone, PartialEq)]
@@ -112,11 +120,11 @@ pub struct ExtremalitySmoothing {
     ///
     /// Default: false.
     pub measure_drift: bool,
-    /// How many times faster each family diffuses along its own lines than across them (see
-    /// the module docs, *Along the lines*): the ridges (max family) run along the min
-    /// directions, the valleys along the max directions. 1 is HPW's isotropic smoothing;
-    /// more than 1 takes out more of the noise without moving the zeros across, and costs
-    /// one operator per family. [`crate::extract`] uses
+    /// How many times faster, at most, each family diffuses along its own lines than across
+    /// them (see the module docs, *Along the lines*): the ridges (max family) run along the
+    /// min directions, the valleys along the max directions; across them the diffusion stays
+    /// HPW's. 1 is HPW's isotropic smoothing; more than 1 takes out more of the noise without
+    /// moving the zeros across, and costs one operator per family. [`crate::extract`] uses
     /// [`crate::extract::ExtractOptions::white_noise_along_lines`] instead where the jet fit
     /// finds the noise white.
     ///
@@ -449,13 +457,17 @@ impl<'m> ExtremalitySmoother<'m> {
             None => None,
         };
         let (dir_max, dir_min) = (&curvature.dir_max, &curvature.dir_min);
-        let (mut weights, mass) = cotan_weights_and_mass(mesh, mesh.positions());
         // Along their own lines each family has its weights: ridges run along dir_min.
-        let mut min_weights = None;
-        if options.along_lines != 1.0 {
-            weights = along_line_weights(mesh, dir_min, options.along_lines);
-            min_weights = Some(along_line_weights(mesh, dir_max, options.along_lines));
-        }
+        let (mut weights, mass, min_weights) = if options.along_lines == 1.0 {
+            let (weights, mass) = cotan_weights_and_mass(mesh, mesh.positions());
+            (weights, mass, None)
+        } else {
+            let (max, min) = rayon::join(
+                || along_line_weights(mesh, dir_min, options.along_lines),
+                || along_line_weights(mesh, dir_max, options.along_lines),
+            );
+            (max, lumped_mass(mesh, mesh.positions()), Some(min))
+        };
         // The local factors and the crease attenuation, per edge.
         let scale = |w: &mut f64, [a, b]: [u32; 2]| {
             if let Some(f) = factors {
@@ -487,48 +499,47 @@ impl<'m> ExtremalitySmoother<'m> {
             });
         let h = mean_edge_length(mesh);
         let time = options.time_step * h * h;
-        let Some(mut min_weights) = min_weights else {
-            let operator = DiffusionOperator::new(
-                mesh,
-                weights,
-                mass,
-                time,
-                &[Some(&max_flips), Some(&min_flips)],
-                options.solver,
-            )?;
-            return Ok(ExtremalitySmoother {
-                operator,
+        match min_weights {
+            None => Ok(ExtremalitySmoother {
+                operator: DiffusionOperator::new(
+                    mesh,
+                    weights,
+                    mass,
+                    time,
+                    &[Some(&max_flips), Some(&min_flips)],
+                    options.solver,
+                )?,
                 min_operator: None,
-            });
-        };
-        min_weights
-            .par_iter_mut()
-            .zip(edges)
-            .for_each(|(w, &edge)| scale(w, edge));
-        let operator = DiffusionOperator::new(
-            mesh,
-            weights,
-            mass.clone(),
-            time,
-            &[Some(&max_flips)],
-            options.solver,
-        )?;
-        let min_operator = DiffusionOperator::new(
-            mesh,
-            min_weights,
-            mass,
-            time,
-            &[Some(&min_flips)],
-            options.solver,
-        )?;
-        Ok(ExtremalitySmoother {
-            operator,
-            min_operator: Some(min_operator),
-        })
+            }),
+            Some(mut min_weights) => {
+                min_weights
+                    .par_iter_mut()
+                    .zip(edges)
+                    .for_each(|(w, &edge)| scale(w, edge));
+                Ok(ExtremalitySmoother {
+                    operator: DiffusionOperator::new(
+                        mesh,
+                        weights,
+                        mass.clone(),
+                        time,
+                        &[Some(&max_flips)],
+                        options.solver,
+                    )?,
+                    min_operator: Some(DiffusionOperator::new(
+                        mesh,
+                        min_weights,
+                        mass,
+                        time,
+                        &[Some(&min_flips)],
+                        options.solver,
+                    )?),
+                })
+            }
+        }
     }
 
     /// One implicit step of both families, in place. Returns the conjugate-gradient
-    /// iterations (0 for Cholesky).
+    /// iterations (0 for Cholesky; the two families' sum when each has its operator).
     ///
     /// # Errors
     /// [`Error::InvalidInput`] when a field does not match the mesh; [`Error::Solver`] when
@@ -645,21 +656,79 @@ mod tests {
         x0 + (x1 - x0) * e0 / (e0 - e1)
     }
 
+    /// The square [-1, 1]² of 40 × 40 cells in the plane z = 0, and its vertex nearest the
+    /// origin.
+    fn plane_and_centre(pattern: shapes::GridPattern) -> (TriMesh, usize) {
+        let m = shapes::height_field_with(|_, _| 0.0, [-1.0, 1.0], [-1.0, 1.0], 40, 40, pattern);
+        let centre = (0..m.num_vertices() as u32)
+            .min_by(|&a, &b| m.position(a).norm().total_cmp(&m.position(b).norm()))
+            .unwrap();
+        (m, centre as usize)
+    }
+
+    /// Where the lines cross the triangles' edges at an angle, the diffusion across them stays
+    /// HPW's (a face whose edges would need negative weights for the anisotropy diffuses as
+    /// the cotan weights do), and along them it is never slower: a spike's second moment
+    /// across the lines at factor 3 is that of factor 1, along them at least that.
+    #[test]
+    fn across_the_lines_the_spread_stays_hpws_at_any_angle() {
+        for pattern in [
+            shapes::GridPattern::Alternating,
+            shapes::GridPattern::Uniform,
+        ] {
+            let (m, centre) = plane_and_centre(pattern);
+            let nv = m.num_vertices();
+            for degrees in [0.0_f64, 30.0, 45.0, 60.0, 90.0, 135.0] {
+                let (sin, cos) = degrees.to_radians().sin_cos();
+                // The ridges run along dir_min = s.
+                let s = Vec3::new(cos, sin, 0.0);
+                let mut c = synthetic(&m);
+                c.k_max = vec![1.0; nv];
+                c.dir_min = vec![s; nv];
+                c.dir_max = vec![Vec3::new(-sin, cos, 0.0); nv];
+                let spread = |along_lines: f64| {
+                    let mut c = c.clone();
+                    c.e_max = (0..nv)
+                        .map(|i| if i == centre { 1.0 } else { 0.0 })
+                        .collect();
+                    c.e_min = c.e_max.clone();
+                    let options = ExtremalitySmoothing {
+                        twicing: false,
+                        along_lines,
+                        ..Default::default()
+                    };
+                    smooth_extremalities(&m, &mut c, &options).unwrap();
+                    let (mut total, mut along, mut across) = (0.0, 0.0, 0.0);
+                    for (e, p) in c.e_max.iter().zip(m.positions()) {
+                        let d = p - m.position(centre as u32);
+                        total += e;
+                        along += e * d.dot(&s).powi(2);
+                        across += e * (d.norm_squared() - d.dot(&s).powi(2));
+                    }
+                    (along / total, across / total)
+                };
+                let (along_1, across_1) = spread(1.0);
+                let (along_3, across_3) = spread(3.0);
+                let what = format!("{pattern:?} at {degrees}°");
+                assert!(
+                    (across_3 / across_1 - 1.0).abs() < 0.03,
+                    "{what}: across {across_1} -> {across_3}"
+                );
+                assert!(
+                    along_3 >= 0.99 * along_1,
+                    "{what}: along {along_1} -> {along_3}"
+                );
+            }
+        }
+    }
+
     /// A unit spike diffuses `along_lines` times farther (in variance) along each family's
     /// lines than across: the ridges' field along the min directions (x), the valleys' along
     /// the max directions (y), whatever the directions' signs.
     #[test]
     fn spikes_spread_along_the_lines() {
-        let n = 40;
-        let m = shapes::height_field(|_, _| 0.0, [-1.0, 1.0], [-1.0, 1.0], n, n);
+        let (m, centre) = plane_and_centre(shapes::GridPattern::Alternating);
         let nv = m.num_vertices();
-        let centre = (0..nv)
-            .min_by(|&a, &b| {
-                m.position(a as u32)
-                    .norm()
-                    .total_cmp(&m.position(b as u32).norm())
-            })
-            .unwrap();
         let sign = |i: usize| if i % 3 == 0 { -1.0 } else { 1.0 };
         let mut c = synthetic(&m);
         c.k_max = vec![1.0; nv];

@@ -81,57 +81,79 @@ fn opposite_cot(t: [u32; 3], positions: &[Vec3], [a, b]: [u32; 2]) -> f64 {
     cot.clamp(-MAX_COT, MAX_COT)
 }
 
-/// Per-edge weights, indexed like [`crate::mesh::Topology::edges`], of the diffusion that is
-/// `factor` times faster along the direction field `along` (per vertex, unit, sign
-/// irrelevant) than across it: the linear finite-element stiffness
-/// `∫ ∇φ_p · D ∇φ_q` with, per face, `D = P + (factor − 1) T`, `P` the projection onto the
-/// face's plane and `T` the mean of `s sᵀ` over its three corners' directions `s`. With
-/// `factor` 1 these are the cotan weights. Each face's share of the anisotropic part is
-/// capped at `(factor − 1)` · [`MAX_COT`] / 2 in magnitude, as a cotangent is, and a negative
-/// total is clamped to zero, as for [`cotan_weights`]: the operator stays positive
+/// Per-edge weights, indexed like [`crate::mesh::Topology::edges`], of a diffusion that is up
+/// to `factor` times faster along the direction field `along` (per vertex, unit, sign
+/// irrelevant) than across it, and across it as the cotan weights' (with `factor` 1 they are
+/// the cotan weights).
+///
+/// Per face the linear finite-element stiffness `∫ ∇φ_p · D ∇φ_q` of the tensor
+/// `D = P + θ (factor − 1) T`: `P` the projection onto the face's plane, `T` the mean of
+/// `s sᵀ` over its three corners' directions `s`, and `θ ∈ [0, 1]` the largest share for which
+/// the face's weight on none of its edges falls below the cotan weight's or zero, whichever is
+/// lower. An anisotropic tensor gives negative weights on a face whose edges do not follow its
+/// direction (a diagonal across the lines), and clamping them would diffuse across the lines
+/// as fast as along: such a face diffuses as the cotan weights do (θ = 0), and one with an
+/// edge along the lines up to `factor` times faster along them. The anisotropic part is
+/// capped at `(factor − 1)` · [`MAX_COT`] / 2 per face and edge, as a cotangent is, and a
+/// negative total is clamped to zero, as for [`cotan_weights`]: the operator stays positive
 /// semi-definite. Faces without area add nothing to it.
 pub fn along_line_weights(mesh: &TriMesh, along: &[Vec3], factor: f64) -> Vec<f64> {
     let topo = mesh.topology();
     let (faces, positions) = (mesh.faces(), mesh.positions());
     let cap = (factor - 1.0).abs() * 0.5 * MAX_COT;
+    // The weight of face t on its edge [a, b]: the cotan part and the anisotropic part.
+    let parts = |t: [u32; 3], [a, b]: [u32; 2]| -> (f64, f64) {
+        let cotan = 0.5 * opposite_cot(t, positions, [a, b]);
+        let c = t.iter().copied().find(|&x| x != a && x != b).unwrap_or(a);
+        let [pa, pb, pc] = [a, b, c].map(|v| positions[v as usize]);
+        let cross = (pb - pa).cross(&(pc - pa));
+        let twice_area = cross.norm();
+        if twice_area <= 0.0 || twice_area.is_nan() {
+            return (cotan, 0.0);
+        }
+        // The gradients of the hat functions of a and b, in the face's plane.
+        let n = cross / twice_area;
+        let grad_a = n.cross(&(pc - pb)) / twice_area;
+        let grad_b = n.cross(&(pa - pc)) / twice_area;
+        let t_part: f64 = [a, b, c]
+            .iter()
+            .map(|&v| {
+                let s = along[v as usize];
+                grad_a.dot(&s) * grad_b.dot(&s)
+            })
+            .sum::<f64>()
+            / 3.0;
+        // The weight is minus the stiffness entry.
+        let anisotropic = (-(factor - 1.0) * 0.5 * twice_area * t_part).clamp(-cap, cap);
+        (cotan, anisotropic)
+    };
+    // Each face's share θ of the anisotropic part.
+    let shares: Vec<f64> = faces
+        .par_iter()
+        .map(|&t| {
+            (0..3).fold(1.0_f64, |share, k| {
+                let (cotan, anisotropic) = parts(t, [t[k], t[(k + 1) % 3]]);
+                if anisotropic < 0.0 {
+                    share.min(cotan.max(0.0) / -anisotropic)
+                } else {
+                    share
+                }
+            })
+        })
+        .collect();
     (0..topo.num_edges() as u32)
         .into_par_iter()
         .map(|e| {
-            let [a, b] = topo.edge(e);
-            let along_part: f64 = topo
+            let edge = topo.edge(e);
+            let w: f64 = topo
                 .edge_faces(e)
                 .iter()
                 .map(|&f| {
-                    let t = faces[f as usize];
-                    let c = t.iter().copied().find(|&x| x != a && x != b).unwrap_or(a);
-                    let [pa, pb, pc] = [a, b, c].map(|v| positions[v as usize]);
-                    let cross = (pb - pa).cross(&(pc - pa));
-                    let twice_area = cross.norm();
-                    if twice_area <= 0.0 || twice_area.is_nan() {
-                        return 0.0;
-                    }
-                    // The gradients of the hat functions of a and b, in the face's plane.
-                    let n = cross / twice_area;
-                    let grad_a = n.cross(&(pc - pb)) / twice_area;
-                    let grad_b = n.cross(&(pa - pc)) / twice_area;
-                    let t_part: f64 = [a, b, c]
-                        .iter()
-                        .map(|&v| {
-                            let s = along[v as usize];
-                            grad_a.dot(&s) * grad_b.dot(&s)
-                        })
-                        .sum::<f64>()
-                        / 3.0;
-                    // The weight is minus the stiffness entry.
-                    (-(factor - 1.0) * 0.5 * twice_area * t_part).clamp(-cap, cap)
+                    let (cotan, anisotropic) = parts(faces[f as usize], edge);
+                    cotan + shares[f as usize] * anisotropic
                 })
                 .sum();
-            let isotropic: f64 = topo
-                .edge_faces(e)
-                .iter()
-                .map(|&f| 0.5 * opposite_cot(faces[f as usize], positions, [a, b]))
-                .sum();
-            (isotropic + along_part).max(0.0)
+            w.max(0.0)
         })
         .collect()
 }
@@ -291,8 +313,8 @@ impl<'m> DiffusionOperator<'m> {
     /// the precision the conjugate-gradient rows store them in, so that every solver solves
     /// the same system.
     ///
-    /// `weights` are per-edge non-negative diffusion weights (cotan weights, possibly scaled
-    /// by local factors), `mass` the lumped mass, `time` the step `t` (in units of area) and
+    /// `weights` are per-edge non-negative diffusion weights (cotan weights or
+    /// [`along_line_weights`], possibly scaled by local factors), `mass` the lumped mass, `time` the step `t` (in units of area) and
     /// `flips` one entry per field: the edges where `σ = −1` (`None`: `σ = +1` everywhere).
     ///
     /// # Errors

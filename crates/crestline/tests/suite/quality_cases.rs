@@ -336,12 +336,12 @@ fn hpw_noisy_ellipsoid() {
 fn white_noise_is_smoothed_along_the_lines() {
     // The noise the fit leaves in the extremalities is correlated over its disc, and the zeros
     // of weak crests wander with it (the noisy ridge's valleys, the ellipsoid's crests near
-    // its umbilics). Smoothed three times faster along the lines than across, measured here:
-    // ovoid/noisy20k 0.992 -> 1.000, ridge/noisy20k 0.865 -> 0.878 (score.py, whose strong
-    // lines differ: 0.991 -> 1.000, 0.962 -> 0.971); the first numbers are HPW's isotropic
-    // smoothing (`white_noise_along_lines` 1), which fails both bounds.
+    // its umbilics). Smoothed up to three times faster along the lines than across, measured
+    // here: ovoid/noisy20k 0.992 -> 1.000, ridge/noisy20k 0.865 -> 0.871 (score.py, whose
+    // strong lines differ: 0.991 -> 1.000, 0.962 -> 0.966); the first numbers are HPW's
+    // isotropic smoothing (`white_noise_along_lines` 1), which fails both bounds.
     check_f1(Method::Hpw, "ovoid/noisy20k", 0.997);
-    check_f1(Method::Hpw, "ridge/noisy20k", 0.872);
+    check_f1(Method::Hpw, "ridge/noisy20k", 0.868);
 }
 
 #[test]
