@@ -414,13 +414,13 @@ impl ExtractOptions {
             (
                 self.white_noise_along_lines > 0.0
                     && self.white_noise_along_lines <= MAX_ALONG_LINES,
-                "smoothing factor along the lines",
+                "smoothing factor along the lines on white noise",
                 self.white_noise_along_lines,
                 "above 0 and at most 1e6",
             ),
             (
                 self.smoothing.along_lines > 0.0 && self.smoothing.along_lines <= MAX_ALONG_LINES,
-                "smoothing factor along the lines",
+                "smoothing factor along the lines (smoothing.along_lines)",
                 self.smoothing.along_lines,
                 "above 0 and at most 1e6",
             ),

@@ -96,7 +96,8 @@ fn opposite_cot(t: [u32; 3], positions: &[Vec3], [a, b]: [u32; 2]) -> f64 {
 /// edge along the lines up to `factor` times faster along them. The anisotropic part is
 /// capped at `(factor − 1)` · [`MAX_COT`] / 2 per face and edge, as a cotangent is, and a
 /// negative total is clamped to zero, as for [`cotan_weights`]: the operator stays positive
-/// semi-definite. Faces without area add nothing to it.
+/// semi-definite. Faces without area, and corners without a finite direction, add nothing to
+/// it.
 pub fn along_line_weights(mesh: &TriMesh, along: &[Vec3], factor: f64) -> Vec<f64> {
     let topo = mesh.topology();
     let (faces, positions) = (mesh.faces(), mesh.positions());
@@ -123,34 +124,45 @@ pub fn along_line_weights(mesh: &TriMesh, along: &[Vec3], factor: f64) -> Vec<f6
             })
             .sum::<f64>()
             / 3.0;
-        // The weight is minus the stiffness entry.
-        let anisotropic = (-(factor - 1.0) * 0.5 * twice_area * t_part).clamp(-cap, cap);
-        (cotan, anisotropic)
+        // The weight is minus the stiffness entry (max/min: no panic on a NaN factor).
+        let anisotropic = -(factor - 1.0) * 0.5 * twice_area * t_part;
+        if anisotropic.is_finite() {
+            (cotan, anisotropic.max(-cap).min(cap))
+        } else {
+            (cotan, 0.0)
+        }
     };
-    // Each face's share θ of the anisotropic part.
-    let shares: Vec<f64> = faces
+    // Per face, its weights on its edges [t0, t1], [t1, t2], [t2, t0], with its share θ of
+    // the anisotropic part.
+    let face_weights: Vec<[f64; 3]> = faces
         .par_iter()
         .map(|&t| {
-            (0..3).fold(1.0_f64, |share, k| {
-                let (cotan, anisotropic) = parts(t, [t[k], t[(k + 1) % 3]]);
+            let parts = [0, 1, 2].map(|k| parts(t, [t[k], t[(k + 1) % 3]]));
+            let share = parts.iter().fold(1.0_f64, |share, &(cotan, anisotropic)| {
                 if anisotropic < 0.0 {
                     share.min(cotan.max(0.0) / -anisotropic)
                 } else {
                     share
                 }
-            })
+            });
+            parts.map(|(cotan, anisotropic)| cotan + share * anisotropic)
         })
         .collect();
     (0..topo.num_edges() as u32)
         .into_par_iter()
         .map(|e| {
-            let edge = topo.edge(e);
+            let [a, b] = topo.edge(e);
             let w: f64 = topo
                 .edge_faces(e)
                 .iter()
                 .map(|&f| {
-                    let (cotan, anisotropic) = parts(faces[f as usize], edge);
-                    cotan + shares[f as usize] * anisotropic
+                    let t = faces[f as usize];
+                    (0..3)
+                        .find(|&k| {
+                            let (p, q) = (t[k], t[(k + 1) % 3]);
+                            (p, q) == (a, b) || (p, q) == (b, a)
+                        })
+                        .map_or(0.0, |k| face_weights[f as usize][k])
                 })
                 .sum();
             w.max(0.0)
