@@ -147,8 +147,9 @@ pub struct JetFitOptions {
     ///
     /// Default: 24.
     pub min_points: usize,
-    /// Grow the radius with the noise's standard deviation measured from the fits' residuals
-    /// ([`noise_radius`]). Clean meshes are not affected. (On white noise the fit keeps
+    /// Grow the radius with the noise the fits' residuals measure: on white noise with its
+    /// standard deviation ([`noise_radius`]), elsewhere with the residual itself. Clean meshes
+    /// are not affected. (On white noise the fit keeps
     /// the curved heights, module docs step 3, with or without it.)
     ///
     /// Default: `true`.
@@ -216,14 +217,16 @@ pub struct JetFitReport {
     /// Noise level: the median over vertices of the fits' weighted RMS residual, in units of
     /// h (below [`REFERENCE_NOISE`] on clean meshes, which keep the base radius). A residual
     /// of a fit with 15 coefficients is smaller than the noise that makes it, by a share that
-    /// depends on the triangulation (see `sigma`, by which the radius is chosen).
+    /// depends on the triangulation (see `sigma`). The radius is chosen by it where the noise
+    /// is not white (scans, CAD exports: [`noise_radius`]).
     pub noise: f64,
     /// The standard deviation of the noise, in units of h: the median over the probe of the
-    /// fits' residual divided by the residual that white noise of unit standard deviation
-    /// leaves in expectation (`Σ w − Σ w² mᵀ M⁻¹ m` of the weighted sum of squares: the fit
+    /// per-disc ratios of the fit's residual to the residual that white noise of unit
+    /// standard deviation leaves in expectation (a median of square roots: a little low, 0.095
+    /// to 0.098 for noise of 0.1 spacings, alike on regular and irregular meshes) (`Σ w − Σ w² mᵀ M⁻¹ m` of the weighted sum of squares: the fit
     /// takes up part of the noise). On the public noisy cases, made with noise of 0.1 times
     /// the mean edge, it measures 0.096 to 0.118 where `noise` measures 0.075 to 0.090. On
-    /// noisy meshes the radius is chosen by it ([`noise_radius`]); it scales the simulated
+    /// white noise the radius is chosen by it ([`noise_radius`]); it scales the simulated
     /// noise ([`crate::curvature::Curvature::extremality_noise`]) and weighs the quartic's
     /// extra noise.
     pub sigma: f64,
@@ -396,7 +399,9 @@ pub fn jet_fit_split(
 }
 
 /// The fits' residual (in sample spacings, [`JetFitReport::noise`]) above which a mesh counts
-/// as noisy and its disc widens (by the noise's standard deviation, [`noise_radius`]). Clean
+/// as noisy and its disc widens ([`noise_radius`]: on white noise by the noise's standard
+/// deviation, which on a mesh just above this level can leave the base radius; elsewhere by
+/// the residual). Clean
 /// meshes measure below it: their residual is the quartic probe's truncation error (below 0.0003
 /// spacings on the public clean cases, bumps of 3 to 4 spacings included), and they keep
 /// the base radius and report no noise. Truncation error is not told from noise here; the
@@ -410,15 +415,18 @@ pub const REFERENCE_NOISE: f64 = 0.0005;
 /// The noise's standard deviation (in sample spacings) that the fitting radius is referred
 /// to ([`noise_radius`]): [`REFERENCE_NOISE`], a residual, on the scale of the standard
 /// deviation. A fit's residual is the noise less what the fit takes up, 1/1.26 to 1/1.34 of
-/// it on the regular public noisy meshes (`JetFitReport::sigma` over `noise`) and 1/1.48 to
+/// it on the regular public noisy meshes (`JetFitReport::sigma` over `noise`; 1/1.24 on the
+/// regular height fields of `bench/quality/height_fields.py`, 1/1.48 on one) and 1/1.48 to
 /// 1/1.56 on irregular ones made alike (`bench/quality/noisy_cases.py`), whose unequal
 /// weights leave fewer samples in effect; at
 /// 1.3 times [`REFERENCE_NOISE`] the regular meshes keep the radii they had when the
 /// radius was chosen by the residual.
 pub const REFERENCE_SIGMA: f64 = 1.3 * REFERENCE_NOISE;
 
-/// The radius (in sample spacings) for noise of standard deviation σ (in sample spacings,
-/// [`JetFitReport::sigma`]). The third derivatives of a least-squares fit over a disc of
+/// The radius (in sample spacings) for white noise of standard deviation σ (in sample
+/// spacings, [`JetFitReport::sigma`]; until 2026-11-28 the argument was the residual,
+/// [`JetFitReport::noise`], referred to [`REFERENCE_NOISE`], which now gives discs about 6%
+/// narrower on regular meshes). The third derivatives of a least-squares fit over a disc of
 /// radius ρ with ~ρ² samples carry noise of about σ / ρ⁴ (in units of 1/h²): the radius
 /// `base (σ / σ_ref)^¼` keeps it at the level of a fit of radius `base` with noise σ_ref =
 /// [`REFERENCE_SIGMA`]. With scan-like noise of 0.1 spacings the radius is about 3.5 times
