@@ -102,42 +102,43 @@ pub fn along_line_weights(mesh: &TriMesh, along: &[Vec3], factor: f64) -> Vec<f6
     let topo = mesh.topology();
     let (faces, positions) = (mesh.faces(), mesh.positions());
     let cap = (factor - 1.0).abs() * 0.5 * MAX_COT;
-    // The weight of face t on its edge [a, b]: the cotan part and the anisotropic part.
-    let parts = |t: [u32; 3], [a, b]: [u32; 2]| -> (f64, f64) {
-        let cotan = 0.5 * opposite_cot(t, positions, [a, b]);
-        let c = t.iter().copied().find(|&x| x != a && x != b).unwrap_or(a);
-        let [pa, pb, pc] = [a, b, c].map(|v| positions[v as usize]);
-        let cross = (pb - pa).cross(&(pc - pa));
+    // The weights of face t on its edges [t0, t1], [t1, t2], [t2, t0]: the cotan part and the
+    // anisotropic part.
+    let parts = |t: [u32; 3]| -> [(f64, f64); 3] {
+        let edge = |k: usize| [t[k], t[(k + 1) % 3]];
+        let cotans = [0, 1, 2].map(|k| 0.5 * opposite_cot(t, positions, edge(k)));
+        let p = t.map(|v| positions[v as usize]);
+        let cross = (p[1] - p[0]).cross(&(p[2] - p[0]));
         let twice_area = cross.norm();
         if twice_area <= 0.0 || twice_area.is_nan() {
-            return (cotan, 0.0);
+            return cotans.map(|cotan| (cotan, 0.0));
         }
-        // The gradients of the hat functions of a and b, in the face's plane.
+        // The gradients of the corners' hat functions, in the face's plane.
         let n = cross / twice_area;
-        let grad_a = n.cross(&(pc - pb)) / twice_area;
-        let grad_b = n.cross(&(pa - pc)) / twice_area;
-        let t_part: f64 = [a, b, c]
-            .iter()
-            .map(|&v| {
-                let s = along[v as usize];
-                grad_a.dot(&s) * grad_b.dot(&s)
-            })
-            .sum::<f64>()
-            / 3.0;
-        // The weight is minus the stiffness entry (max/min: no panic on a NaN factor).
-        let anisotropic = -(factor - 1.0) * 0.5 * twice_area * t_part;
-        if anisotropic.is_finite() {
-            (cotan, anisotropic.max(-cap).min(cap))
-        } else {
-            (cotan, 0.0)
-        }
+        let grads = [0, 1, 2].map(|i| n.cross(&(p[(i + 2) % 3] - p[(i + 1) % 3])) / twice_area);
+        let directions = t.map(|v| along[v as usize]);
+        std::array::from_fn(|k| {
+            let (grad_a, grad_b) = (grads[k], grads[(k + 1) % 3]);
+            let t_part = directions
+                .iter()
+                .map(|s| grad_a.dot(s) * grad_b.dot(s))
+                .sum::<f64>()
+                / 3.0;
+            // The weight is minus the stiffness entry (max/min: no panic on a NaN factor).
+            let anisotropic = -(factor - 1.0) * 0.5 * twice_area * t_part;
+            if anisotropic.is_finite() {
+                (cotans[k], anisotropic.max(-cap).min(cap))
+            } else {
+                (cotans[k], 0.0)
+            }
+        })
     };
     // Per face, its weights on its edges [t0, t1], [t1, t2], [t2, t0], with its share θ of
     // the anisotropic part.
     let face_weights: Vec<[f64; 3]> = faces
         .par_iter()
         .map(|&t| {
-            let parts = [0, 1, 2].map(|k| parts(t, [t[k], t[(k + 1) % 3]]));
+            let parts = parts(t);
             let share = parts.iter().fold(1.0_f64, |share, &(cotan, anisotropic)| {
                 if anisotropic < 0.0 {
                     share.min(cotan.max(0.0) / -anisotropic)
