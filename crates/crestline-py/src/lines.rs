@@ -297,6 +297,8 @@ fn stats_dict<'py>(
     d.set_item("threshold", s.threshold)?;
     d.set_item("threshold_auto", s.threshold_is_auto)?;
     d.set_item("threshold_split", s.threshold_is_split)?;
+    d.set_item("threshold_ridges", s.family_thresholds.map(|t| t[0]))?;
+    d.set_item("threshold_valleys", s.family_thresholds.map(|t| t[1]))?;
     d.set_item("gaps_jumped", s.gaps_jumped)?;
     let jet_fit = match s.jet_fit {
         Some(j) => {

@@ -93,6 +93,10 @@ def test_methods_and_thresholds(fandisk):
     # without one (the stats say which).
     salient = crestline.extract(*fandisk, method="saliency").stats
     assert salient["threshold_auto"] is True and salient["threshold_split"] is False
+    # Ridge and valley points each keep the knee over all vertices or a lower one of their own.
+    assert 0 < salient["threshold_ridges"] <= salient["threshold"]
+    assert 0 < salient["threshold_valleys"] <= salient["threshold"]
+    assert hpw.stats["threshold_ridges"] is None and hpw.stats["threshold_valleys"] is None
 
 
 def test_curvature_of_the_ovoid_is_close_to_exact():

@@ -134,7 +134,8 @@ pub struct Args {
     pub creases: Option<CreaseAngle>,
     /// Strength threshold, or `auto` to pick it from the knee of the sorted strengths.
     /// HPW: the strength T of YBS eq. 5, default 1. YBS: default auto (the knee of the
-    /// strengths above T = 1; 1 when there is none). Saliency: the saliency, default auto.
+    /// strengths above T = 1; 1 when there is none). Saliency: the saliency, default auto
+    /// (the knee over all vertices, or a lower one of the ridge or the valley points' own).
     #[arg(long, allow_negative_numbers = true)]
     pub threshold: Option<String>,
     /// Minimum line length as a fraction of the bounding-box diagonal (of the largest part when
@@ -366,11 +367,16 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
     }
     if s.threshold_is_split {
         eprintln!(
-            "automatic threshold: {:.6} (the saliency rises without a knee: the split of its upper half)",
-            s.threshold
+            "automatic threshold: {:.6} (the saliency rises without a knee: the split of its upper half){}",
+            s.threshold,
+            family_thresholds(s)
         );
     } else if s.threshold_is_auto {
-        eprintln!("automatic threshold: {:.6}", s.threshold);
+        eprintln!(
+            "automatic threshold: {:.6}{}",
+            s.threshold,
+            family_thresholds(s)
+        );
     } else if options.pipeline.threshold().is_auto() {
         match options.method() {
             Method::Saliency => {
@@ -383,6 +389,17 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
                 s.threshold
             ),
         }
+    }
+}
+
+/// The saliency method's thresholds of ridge and valley points where one is a family's own
+/// knee (`crestline::saliency::family`), for the summary; empty otherwise.
+fn family_thresholds(s: &ExtractStats) -> String {
+    match s.family_thresholds {
+        Some([ridge, valley]) if ridge != s.threshold || valley != s.threshold => {
+            format!("; ridge points {ridge:.6}, valley points {valley:.6} (a family's own knee)")
+        }
+        _ => String::new(),
     }
 }
 
@@ -899,6 +916,9 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
             _ => "",
         }
     );
+    if let Some([ridge, valley]) = s.family_thresholds {
+        out += &format!("threshold by family    ridges {ridge:.6}, valleys {valley:.6}\n");
+    }
     out += &match s.crease_threshold {
         Some(t) => format!(
             "creases                {} (dihedral angle > {:.2} degrees{}, length {})\n",
@@ -987,6 +1007,8 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
         "threshold": s.threshold,
         "threshold_auto": s.threshold_is_auto,
         "threshold_split": s.threshold_is_split,
+        "threshold_ridges": s.family_thresholds.map(|t| t[0]),
+        "threshold_valleys": s.family_thresholds.map(|t| t[1]),
         "gaps_jumped": s.gaps_jumped,
         "fallback_vertices": s.fallback_vertices,
         "jet_fit": s.jet_fit.map(|j| serde_json::json!({

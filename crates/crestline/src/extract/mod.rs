@@ -104,7 +104,8 @@
 //! line above the floor) the floor stays. The saliency method splits a saliency that rises
 //! without a knee in two ([`crate::threshold::NoKnee::Split`]) and keeps no point when it is
 //! flat (or has fewer than 8 values), since a flat saliency curve means a shape without
-//! salient parts (a sphere, a torus).
+//! salient parts (a sphere, a torus). Its ridge and valley points may each have a knee of
+//! their own below that of all vertices ([`crate::saliency::family`]).
 
 mod options;
 
@@ -130,10 +131,10 @@ use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
 };
 use crate::mesh::{Orientation, TriMesh, orientation, reverse_faces};
-use crate::saliency::mesh_saliency;
+use crate::saliency::{family_thresholds, mesh_saliency};
 use crate::smoothing::extremality::{smooth_extremalities, smooth_extremalities_split};
 use crate::smoothing::surface::smooth_surface;
-use crate::threshold::{ChosenThreshold, NoKnee, choose_threshold};
+use crate::threshold::{ChosenThreshold, NoKnee};
 
 /// The named stages, for progress reports and timings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -236,6 +237,10 @@ pub struct ExtractStats {
     /// True when the saliency had no knee and the threshold is its split
     /// ([`crate::threshold::NoKnee::Split`]).
     pub threshold_is_split: bool,
+    /// Saliency: the thresholds of the ridge and the valley feature points
+    /// ([`crate::saliency::family`]: `threshold`, or a family's own knee where it is lower).
+    /// `None` for HPW and YBS.
+    pub family_thresholds: Option<[f64; 2]>,
     /// Gaps jumped (YBS).
     pub gaps_jumped: usize,
     /// Line points moved by [`crate::lines::debias`] and their median move (all zero when it
@@ -445,7 +450,7 @@ fn orient_if_inward(
 
 /// Traces the candidate lines of the chosen method: HPW's regular and singular triangles,
 /// YBS's edge-based crest lines, or the saliency method's linked feature points (whose
-/// threshold on the saliency is chosen here, [`choose_threshold`]).
+/// thresholds on the saliency are chosen here, [`family_thresholds`]).
 fn trace_by_method(
     surface: &TriMesh,
     curvature: &Curvature,
@@ -466,15 +471,10 @@ fn trace_by_method(
             let no_knee = NoKnee::Split {
                 flat: f64::INFINITY,
             };
-            let chosen = choose_threshold(&saliency.saliency, &mwz.threshold, no_knee);
-            record_threshold(chosen, stats);
-            link_feature_points(
-                surface,
-                curvature,
-                &saliency.saliency,
-                chosen.value,
-                &mwz.link,
-            )
+            let chosen = family_thresholds(&saliency.saliency, curvature, &mwz.threshold, no_knee);
+            record_threshold(chosen.all, stats);
+            stats.family_thresholds = Some([chosen.ridge, chosen.valley]);
+            link_feature_points(surface, curvature, &saliency.saliency, &chosen, &mwz.link)
         }
     })
 }

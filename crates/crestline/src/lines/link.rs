@@ -6,11 +6,12 @@
 //! crest point lies on a mesh edge ([`super::trace_edges::is_crest_edge`]: the extremality
 //! changes sign, the crossing is a maximum of `k_max` or a minimum of `k_min`, and the
 //! curvature condition holds); it is carried by the nearer end of its edge, which takes the
-//! point's position and kind. Vertices with saliency above the threshold `T` that carry a crest
-//! point are feature points (`M1`), those with saliency in `(0.8 T, T]` weak feature points
-//! (`M2`); only points of one kind are linked. (Reading every vertex above `T` as a feature
-//! point instead turns the bands of high saliency around a crest into wandering chains: mean
-//! F1 0.29 on the public quality cases against the crest lines.)
+//! point's position and kind. Vertices with saliency above the threshold `T` of that kind
+//! ([`crate::saliency::family`]: the paper's knee, or the family's own where it is lower) that
+//! carry a crest point are feature points (`M1`), those with saliency in `(0.8 T, T]` weak
+//! feature points (`M2`); only points of one kind are linked. (Reading every vertex above `T`
+//! as a feature point instead turns the bands of high saliency around a crest into wandering
+//! chains: mean F1 0.29 on the public quality cases against the crest lines.)
 //!
 //! For a feature point `p`, looking at its one-ring:
 //! 1. exactly one feature neighbour `q`: link `p–q`;
@@ -76,6 +77,7 @@ use super::filter::HPW_DEFAULT_THRESHOLD;
 use crate::curvature::Curvature;
 use crate::mesh::{TriMesh, Vec3};
 use crate::slices::union_find_root;
+use crate::threshold::ChosenThreshold;
 
 use rayon::prelude::*;
 
@@ -105,6 +107,41 @@ impl Default for LinkOptions {
             weak_fraction: 0.8,
             extend: true,
             min_strength: HPW_DEFAULT_THRESHOLD,
+        }
+    }
+}
+
+/// The saliency thresholds of the feature points, by family
+/// ([`crate::saliency::family_thresholds`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FamilyThresholds {
+    /// The threshold over all vertices (the paper's).
+    pub all: ChosenThreshold,
+    /// The threshold of ridge points: `all`, or the ridges' own knee where it is lower.
+    pub ridge: f64,
+    /// The threshold of valley points: `all`, or the valleys' own knee where it is lower.
+    pub valley: f64,
+}
+
+impl FamilyThresholds {
+    /// The same threshold for both families.
+    pub fn uniform(threshold: f64) -> Self {
+        FamilyThresholds {
+            all: ChosenThreshold {
+                value: threshold,
+                from_knee: false,
+                from_split: false,
+            },
+            ridge: threshold,
+            valley: threshold,
+        }
+    }
+
+    /// The threshold of `kind`'s feature points.
+    pub fn of(&self, kind: LineKind) -> f64 {
+        match kind {
+            LineKind::Ridge => self.ridge,
+            LineKind::Valley => self.valley,
         }
     }
 }
@@ -164,25 +201,25 @@ pub fn crest_points(mesh: &TriMesh, curvature: &Curvature) -> Vec<Option<CrestPo
     nearest
 }
 
-/// Links the crest points ([`crest_points`]) whose vertices' `saliency` exceeds `threshold`
-/// into feature lines.
+/// Links the crest points ([`crest_points`]) whose vertices' `saliency` exceeds the threshold
+/// of their kind into feature lines.
 pub fn link_feature_points(
     mesh: &TriMesh,
     curvature: &Curvature,
     saliency: &[f64],
-    threshold: f64,
+    thresholds: &FamilyThresholds,
     options: &LinkOptions,
 ) -> FeatureLines {
     let n = mesh.num_vertices();
     let crest = crest_points(mesh, curvature);
+    let threshold = |v: usize| crest[v].map(|c| thresholds.of(c.kind));
     let mut feature: Vec<bool> = (0..n)
-        .map(|v| crest[v].is_some() && saliency[v] > threshold)
+        .map(|v| threshold(v).is_some_and(|t| saliency[v] > t))
         .collect();
     let weak: Vec<bool> = (0..n)
         .map(|v| {
-            crest[v].is_some()
-                && saliency[v] > options.weak_fraction * threshold
-                && saliency[v] <= threshold
+            threshold(v)
+                .is_some_and(|t| saliency[v] > options.weak_fraction * t && saliency[v] <= t)
         })
         .collect();
     // Only crest vertices are ever linked; the others' kind is never read.
@@ -635,7 +672,8 @@ mod tests {
                 saliency[v] = if (p.x - 0.5).abs() < 1e-9 { 0.9 } else { 1.5 };
             }
         }
-        let lines = link_feature_points(&mesh, &c, &saliency, 1.0, &LinkOptions::default());
+        let thresholds = FamilyThresholds::uniform(1.0);
+        let lines = link_feature_points(&mesh, &c, &saliency, &thresholds, &LinkOptions::default());
         assert_eq!(
             lines.lines.len(),
             1,

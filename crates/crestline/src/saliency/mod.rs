@@ -19,10 +19,13 @@ use crate::curvature::Curvature;
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, mean_edge_length};
 
+pub mod family;
 mod sums;
 #[cfg(test)]
 mod tests;
 
+pub use crate::lines::link::FamilyThresholds;
+pub use family::family_thresholds;
 use sums::variation_with;
 
 /// Options of [`mesh_saliency`].

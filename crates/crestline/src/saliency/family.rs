@@ -1,0 +1,168 @@
+//! The feature points' threshold per family (our extension of Mao, Wang, Zhou, sec. 4.3).
+//!
+//! The paper sorts the saliency of every vertex and takes the knee of that one curve
+//! (SeekThreshold, [`crate::threshold`]) for ridge and valley points alike. Its own figures
+//! choose the two families apart ("top 30% for ridge points, bottom 30% for valley points",
+//! Figs. 4 and 6), and with one knee the stronger family decides for both: where the valleys
+//! bend less than the ridges (a Gaussian ridge's two feet have about 0.4 of its crest's
+//! curvature) no valley vertex reaches the ridges' knee and the shape gets no valley, and on
+//! noisy meshes the weaker family's peak saliency sits at the knee, so that it is kept or lost
+//! by a hair.
+//!
+//! Here each family may also have a knee of its own: the same search over the saliency of the
+//! vertices whose dominant curvature is of that family's sign (`k_max > |k_min|` for ridges,
+//! `k_min < −|k_max|` for valleys; a curve that rises without a knee is split as the whole one
+//! is, [`NoKnee::Split`]). A family's threshold is the lower of the knee over all vertices and
+//! its own, so that every point the paper's threshold keeps stays a feature point. Its own knee
+//! counts only where it stands above the flat part of the whole shape: the value where the
+//! paper's search over all vertices starts (the median, the start of
+//! [`crate::threshold::KneeSearch`]). A family the shape does not have (the valleys of a
+//! convex part) is made of the flat vertices that happen to bend its way, whose knee lies down
+//! there: on noisy CAD parts such knees sat at the 8th to the 19th percentile of all vertices,
+//! those of real families at the 70th to the 92nd. A fixed threshold applies to both families as it is, and
+//! a flat saliency (no knee and no split over all vertices: a sphere, a torus) keeps no point.
+//!
+//! Measured (`score.py --method saliency`, BENCHMARKS.md "The saliency's knee per family"):
+//! public cases mean F1 0.941 → 0.961; six height fields not in `../shared` 0.798 → 0.869
+//! (two crossing Gaussian ridges, clean, 0.706 → 0.999: their valleys); 100 noisy surfaces
+//! made alike 0.758 → 0.819 (31 up, 2 down by at most 0.012).
+
+use crate::curvature::Curvature;
+use crate::lines::LineKind;
+use crate::lines::link::FamilyThresholds;
+use crate::threshold::{NoKnee, Threshold, choose_threshold};
+
+/// The thresholds that `threshold` gives on the per-vertex `saliency` for each family (module
+/// docs); `no_knee` as for [`choose_threshold`], for all vertices and for each family.
+pub fn family_thresholds(
+    saliency: &[f64],
+    curvature: &Curvature,
+    threshold: &Threshold,
+    no_knee: NoKnee,
+) -> FamilyThresholds {
+    let all = choose_threshold(saliency, threshold, no_knee);
+    let same = FamilyThresholds {
+        all,
+        ridge: all.value,
+        valley: all.value,
+    };
+    // A fixed threshold, or a flat saliency (no feature point, or the value `no_knee` gave).
+    let Threshold::Knee { search, .. } = threshold else {
+        return same;
+    };
+    if !all.from_knee {
+        return same;
+    }
+    // Where the paper's search over all vertices starts: the top of the shape's flat part.
+    let mut finite: Vec<f64> = saliency.iter().copied().filter(|s| s.is_finite()).collect();
+    let start = (finite.len() as f64 * search.start.clamp(0.0, 1.0)) as usize;
+    if start >= finite.len() {
+        return same;
+    }
+    let flat_top = *finite.select_nth_unstable_by(start, f64::total_cmp).1;
+    let own = |kind: LineKind| {
+        let values: Vec<f64> = saliency
+            .iter()
+            .zip(curvature.k_max.iter().zip(&curvature.k_min))
+            .filter(|&(_, (&k_max, &k_min))| match kind {
+                LineKind::Ridge => k_max > k_min.abs(),
+                LineKind::Valley => k_min < -k_max.abs(),
+            })
+            .map(|(&s, _)| s)
+            .collect();
+        // A family's curve that rises without a knee is split as the whole one is.
+        let knee = choose_threshold(&values, threshold, no_knee).value;
+        if knee > flat_top {
+            knee.min(all.value)
+        } else {
+            all.value
+        }
+    };
+    FamilyThresholds {
+        all,
+        ridge: own(LineKind::Ridge),
+        valley: own(LineKind::Valley),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::extract::MwzOptions;
+
+    /// The saliency method's default: the paper's search over all the values.
+    fn knee() -> Threshold {
+        MwzOptions::automatic()
+    }
+    const NO_KNEE: NoKnee = NoKnee::Split {
+        flat: f64::INFINITY,
+    };
+
+    /// `count` values spread evenly over `[lo, hi]`.
+    fn ramp(count: usize, lo: f64, hi: f64) -> impl Iterator<Item = f64> {
+        (0..count).map(move |i| lo + (hi - lo) * i as f64 / (count - 1) as f64)
+    }
+
+    /// The saliency of ridge-type vertices, then valley-type ones, with their curvature.
+    fn shape(ridges: Vec<f64>, valleys: Vec<f64>) -> (Vec<f64>, Curvature) {
+        let kinds = ridges.iter().map(|_| (1.0, 0.0));
+        let kinds = kinds.chain(valleys.iter().map(|_| (0.0, -1.0)));
+        let (k_max, k_min) = kinds.unzip();
+        let saliency = ridges.into_iter().chain(valleys).collect();
+        let curvature = Curvature {
+            k_max,
+            k_min,
+            ..Default::default()
+        };
+        (saliency, curvature)
+    }
+
+    /// The valleys stand out among the valley-type vertices (a jump above their flat part) but
+    /// not among all vertices, whose knee is the ridges' (the valleys lie on the slow rise of
+    /// the ridge-type flat vertices): they get their own, lower threshold.
+    #[test]
+    fn a_weaker_family_gets_its_own_knee() {
+        let ridges = ramp(1000, 0.0, 3.0).chain(ramp(50, 10.0, 11.0)).collect();
+        let valleys = ramp(1000, 0.0, 1.0).chain(ramp(100, 1.5, 1.6)).collect();
+        let (saliency, curvature) = shape(ridges, valleys);
+        let t = family_thresholds(&saliency, &curvature, &knee(), NO_KNEE);
+        assert!(t.all.from_knee && !t.all.from_split, "{t:?}");
+        // The knee over all vertices keeps the ridges and none of the valleys.
+        assert!((3.0..10.0).contains(&t.all.value), "{t:?}");
+        assert_eq!(t.ridge, t.all.value, "{t:?}");
+        // The valleys' own keeps all of theirs and none of their flat part.
+        assert!((0.99..1.5).contains(&t.valley), "{t:?}");
+        assert_eq!(t.of(LineKind::Valley), t.valley);
+    }
+
+    /// A family the shape does not have is made of flat vertices; a knee among them (here at
+    /// the valley-type vertices' 80th percentile) lies below the median of all vertices, the
+    /// flat part of the whole shape, and is not taken.
+    #[test]
+    fn a_knee_among_the_flat_vertices_is_not_taken() {
+        let ridges = ramp(1000, 0.0, 1.0).chain(ramp(50, 10.0, 11.0)).collect();
+        let valleys = ramp(800, 0.0, 0.1)
+            .chain(ramp(200, 0.1, 1.0))
+            .collect::<Vec<_>>();
+        let own = choose_threshold(&valleys, &knee(), NO_KNEE);
+        assert!(own.from_knee && own.value < 0.15, "{own:?}");
+        let (saliency, curvature) = shape(ridges, valleys);
+        let t = family_thresholds(&saliency, &curvature, &knee(), NO_KNEE);
+        assert!(t.all.value >= 1.0, "{t:?}");
+        assert_eq!(t.ridge, t.all.value, "{t:?}");
+        assert_eq!(t.valley, t.all.value, "{t:?}");
+    }
+
+    #[test]
+    fn a_fixed_threshold_and_a_flat_saliency_apply_to_both_families() {
+        let (saliency, curvature) = shape(
+            ramp(1000, 0.0, 3.0).chain(ramp(50, 10.0, 11.0)).collect(),
+            ramp(1000, 0.0, 1.0).chain(ramp(100, 1.5, 1.6)).collect(),
+        );
+        let fixed = family_thresholds(&saliency, &curvature, &Threshold::Fixed(2.0), NO_KNEE);
+        assert_eq!(fixed, FamilyThresholds::uniform(2.0));
+        let flat = vec![1.0; saliency.len()];
+        let t = family_thresholds(&flat, &curvature, &knee(), NO_KNEE);
+        assert_eq!(t, FamilyThresholds::uniform(f64::INFINITY));
+    }
+}
