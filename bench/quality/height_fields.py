@@ -76,17 +76,26 @@ SURFACES = {
 x, y = sp.symbols("x y")
 
 
-def field_functions(expression):
-    """f, fx, fy, E, F, G, L, M, N and the x and y derivatives of E, F, G, L, M, N (B = -II)."""
-    f = sp.sympify(expression)
-    fx, fy = sp.diff(f, x), sp.diff(f, y)
-    w = sp.sqrt(1 + fx**2 + fy**2)
-    first = [1 + fx**2, fx * fy, 1 + fy**2]
-    second = [-sp.diff(f, x, 2) / w, -sp.diff(f, x, y) / w, -sp.diff(f, y, 2) / w]
-    terms = [f, fx, fy, *first, *second]
+def surface_functions(px, py, pz):
+    """Per (x, y): the point P, its unit normal n = P_x × P_y / |P_x × P_y|, E, F, G, L, M, N
+    (B = -II, II against n) and the x and y derivatives of E, F, G, L, M, N, for the surface
+    P(x, y) = (px, py, pz) given as sympy expressions in the parameters x and y."""
+    point = sp.Matrix([px, py, pz])
+    pu, pv = point.diff(x), point.diff(y)
+    cross = pu.cross(pv)
+    w = sp.sqrt(cross.dot(cross))
+    normal = cross / w
+    first = [pu.dot(pu), pu.dot(pv), pv.dot(pv)]
+    second = [-point.diff(x, 2).dot(normal), -point.diff(x, y).dot(normal), -point.diff(y, 2).dot(normal)]
+    terms = [*point, *normal, *first, *second]
     for q in first + second:
         terms += [sp.diff(q, x), sp.diff(q, y)]
-    return sp.lambdify((x, y), terms, "numpy")
+    return sp.lambdify((x, y), terms, "numpy", cse=True)
+
+
+def field_functions(expression):
+    """surface_functions of the height field z = f(x, y)."""
+    return surface_functions(x, y, sp.sympify(expression))
 
 
 def evaluate(functions, u, v):
@@ -94,10 +103,11 @@ def evaluate(functions, u, v):
 
 
 def quantities(functions, u, v):
-    """Exact k_max >= k_min, unit directions (parameter coordinates), extremalities, height, normal."""
+    """Exact k_max >= k_min, unit directions (parameter coordinates), extremalities, point, normal
+    and area element."""
     values = evaluate(functions, u, v)
-    f, fx, fy, E, F, G, L, M, N = values[:9]
-    dE, dF, dG, dL, dM, dN = [(values[9 + 2 * i], values[10 + 2 * i]) for i in range(6)]
+    E, F, G, L, M, N = values[6:12]
+    dE, dF, dG, dL, dM, dN = [(values[12 + 2 * i], values[13 + 2 * i]) for i in range(6)]
     # det(B - k I) = 0
     a = E * G - F * F
     b = -(E * N + G * L - 2 * F * M)
@@ -121,14 +131,24 @@ def quantities(functions, u, v):
         out["k_" + name] = k
         out["t_" + name] = np.stack([tu, tv], -1)
         out["e_" + name] = d_b - k * d_i
-    w = np.sqrt(1 + fx * fx + fy * fy)
-    out["n"] = np.stack([-fx / w, -fy / w, 1 / w], -1)
-    out["z"] = f
+    out["p"] = np.stack(values[0:3], -1)
+    out["n"] = np.stack(values[3:6], -1)
+    out["area"] = np.sqrt(a)
     return out
 
 
 def crest_lines(functions, grid):
     """Segments (n, 2, 3) and strengths of each family, and strong_min (module docs)."""
+    out, dominant, area = chart_crest_lines(functions, grid)
+    order = np.argsort(dominant)
+    cumulative = np.cumsum(area[order])
+    median = dominant[order][np.searchsorted(cumulative, cumulative[-1] / 2)]
+    return out, 1.5 * median
+
+
+def chart_crest_lines(functions, grid):
+    """Segments (n, 2, 3) and strengths of each family over the parameter square [-1, 1]^2, and
+    the dominant |k| and area element at the grid's nodes."""
     s = np.linspace(-1.0, 1.0, grid + 1)
     h = s[1] - s[0]
     u, v = np.meshgrid(s, s, indexing="ij")
@@ -172,21 +192,16 @@ def crest_lines(functions, grid):
             segments.append(ends)
             strengths.append(abs(k[i, j]))
         plane = np.array(segments, dtype=float).reshape(-1, 2, 2)
-        height = evaluate(functions, plane[..., 0], plane[..., 1])[0]
-        out[kind] = np.concatenate([plane, height[..., None]], -1)
+        out[kind] = np.stack(evaluate(functions, plane[..., 0], plane[..., 1])[0:3], -1)
         out[kind + "_strength"] = np.array(strengths)
     dominant = np.maximum(np.abs(q["k_max"]), np.abs(q["k_min"])).ravel()
-    area = (1 / q["n"][..., 2]).ravel()
-    order = np.argsort(dominant)
-    cumulative = np.cumsum(area[order])
-    median = dominant[order][np.searchsorted(cumulative, cumulative[-1] / 2)]
-    return out, 1.5 * median
+    return out, dominant, q["area"].ravel()
 
 
 def grid_mesh(functions, n):
     s = np.linspace(-1.0, 1.0, n)
     u, v = np.meshgrid(s, s, indexing="ij")
-    vertices = np.stack([u, v, evaluate(functions, u, v)[0]], -1).reshape(-1, 3)
+    vertices = np.stack([u, v, evaluate(functions, u, v)[2]], -1).reshape(-1, 3)
     faces = []
     for i in range(n - 1):
         for j in range(n - 1):
@@ -204,7 +219,7 @@ def irregular_mesh(functions, count, rng):
     ])
     points = np.concatenate([border, rng.uniform(-1.0, 1.0, size=(count - len(border), 2))])
     faces = Delaunay(points).simplices
-    vertices = np.c_[points, evaluate(functions, points[:, 0], points[:, 1])[0]]
+    vertices = np.c_[points, evaluate(functions, points[:, 0], points[:, 1])[2]]
     p = vertices[faces]
     down = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])[:, 2] < 0
     faces[down] = faces[down][:, ::-1]
