@@ -31,16 +31,13 @@ grid of spacing 0.053, vertices projected radially; noisy20k: reg20k with every 
 its exact normal by N(0, 0.1 x mean edge length).
 Needs numpy, scipy, sympy and scikit-image.
 """
-import argparse
-import json
-from pathlib import Path
-
 import numpy as np
 import sympy as sp
 from scipy.spatial import ConvexHull
 from skimage.measure import marching_cubes
 
-from height_fields import chart_crest_lines, quantities, surface_functions, write_obj, x, y
+from height_fields import (chart_crest_lines, command_line, quantities, surface_functions, write_obj,
+                           write_truth, x, y)
 
 dx, dy, dz = sp.symbols("dx dy dz")
 
@@ -174,42 +171,10 @@ def make_case(outdir, name, expression, grid, seed):
     write_obj(folder / "mc.obj", vertices, outward(vertices, faces))
     meshes["mc"] = dict(vertices=len(vertices), faces=len(faces))
 
-    points = np.concatenate([truth["ridge"].reshape(-1, 3), truth["valley"].reshape(-1, 3), vertices])
-    diag = float(np.linalg.norm(points.max(0) - points.min(0)))
-    np.savez(folder / "truth_lines.npz", diag=diag, strong_min=strong_min, **truth)
-    with open(folder / "truth_lines.obj", "w") as out:
-        index = 1
-        for kind in ("ridge", "valley"):
-            out.write(f"g {kind}\n")
-            for a, b in truth[kind]:
-                out.write(f"v {a[0]} {a[1]} {a[2]}\nv {b[0]} {b[1]} {b[2]}\nl {index} {index + 1}\n")
-                index += 2
-    index_file = outdir / "index.json"
-    index = json.loads(index_file.read_text()) if index_file.exists() else {}
-    index[name] = dict(diag=diag, kind="star", meshes=meshes)
-    index_file.write_text(json.dumps(index, indent=1))
-    for kind in ("ridge", "valley"):
-        length = np.linalg.norm(truth[kind][:, 0] - truth[kind][:, 1], axis=1)
-        strong = truth[kind + "_strength"] >= strong_min
-        print(f"{name} {kind}s: {length.sum() / diag:.3f} diagonals, strong {length[strong].sum() / diag:.3f}")
-
+    write_truth(outdir, name, "star", truth, strong_min, vertices, meshes)
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("outdir", type=Path)
-    parser.add_argument("--only", nargs="+", choices=sorted(SURFACES))
-    parser.add_argument("--surface", nargs=2, metavar=("NAME", "RADIUS"))
-    parser.add_argument("--grid", type=int, default=501, help="cells per side of each chart's tracing grid")
-    parser.add_argument("--seed", type=int, default=7)
-    args = parser.parse_args()
-    if args.surface:
-        chosen = {args.surface[0]: args.surface[1]}
-    else:
-        chosen = {k: SURFACES[k] for k in (args.only or SURFACES)}
-    with np.errstate(invalid="ignore", divide="ignore"):
-        for name, expression in chosen.items():
-            make_case(args.outdir, name, expression, args.grid, args.seed)
-
+    command_line(__doc__, SURFACES, make_case, 501, "RADIUS")
 
 if __name__ == "__main__":
     main()

@@ -253,42 +253,52 @@ def make_case(outdir, name, expression, grid, seed):
     vertices, faces = irregular_mesh(functions, 10605, rng)
     write_obj(folder / "irr20k.obj", vertices, faces)
     meshes["irr20k"] = dict(vertices=len(vertices), faces=len(faces))
+    write_truth(outdir, name, "height", truth, strong_min, vertices, meshes)
+
+def write_truth(outdir, name, kind, truth, strong_min, vertices, meshes):
+    """truth_lines.npz and truth_lines.obj of case NAME (its diagonal over the lines and `vertices`),
+    its entry in OUTDIR/index.json, and its lines' lengths on stdout."""
+    folder = outdir / name
     points = np.concatenate([truth["ridge"].reshape(-1, 3), truth["valley"].reshape(-1, 3), vertices])
     diag = float(np.linalg.norm(points.max(0) - points.min(0)))
     np.savez(folder / "truth_lines.npz", diag=diag, strong_min=strong_min, **truth)
     with open(folder / "truth_lines.obj", "w") as out:
         index = 1
-        for kind in ("ridge", "valley"):
-            out.write(f"g {kind}\n")
-            for a, b in truth[kind]:
+        for family in ("ridge", "valley"):
+            out.write(f"g {family}\n")
+            for a, b in truth[family]:
                 out.write(f"v {a[0]} {a[1]} {a[2]}\nv {b[0]} {b[1]} {b[2]}\nl {index} {index + 1}\n")
                 index += 2
     index_file = outdir / "index.json"
     index = json.loads(index_file.read_text()) if index_file.exists() else {}
-    index[name] = dict(diag=diag, kind="height", meshes=meshes)
+    index[name] = dict(diag=diag, kind=kind, meshes=meshes)
     index_file.write_text(json.dumps(index, indent=1))
-    for kind in ("ridge", "valley"):
-        length = np.linalg.norm(truth[kind][:, 0] - truth[kind][:, 1], axis=1)
-        strong = truth[kind + "_strength"] >= strong_min
-        print(f"{name} {kind}s: {length.sum() / diag:.3f} diagonals, strong {length[strong].sum() / diag:.3f}")
+    for family in ("ridge", "valley"):
+        length = np.linalg.norm(truth[family][:, 0] - truth[family][:, 1], axis=1)
+        strong = truth[family + "_strength"] >= strong_min
+        print(f"{name} {family}s: {length.sum() / diag:.3f} diagonals, strong {length[strong].sum() / diag:.3f}")
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def command_line(doc, surfaces, make_case, grid, expression):
+    """The scripts' command line: OUTDIR [--only NAME ...] | --surface NAME EXPRESSION, --grid, --seed."""
+    parser = argparse.ArgumentParser(description=doc.split("\n")[0])
     parser.add_argument("outdir", type=Path)
-    parser.add_argument("--only", nargs="+", choices=sorted(SURFACES))
-    parser.add_argument("--surface", nargs=2, metavar=("NAME", "EXPRESSION"))
-    parser.add_argument("--grid", type=int, default=1201, help="cells per side of the tracing grid")
+    parser.add_argument("--only", nargs="+", choices=sorted(surfaces))
+    parser.add_argument("--surface", nargs=2, metavar=("NAME", expression))
+    parser.add_argument("--grid", type=int, default=grid, help="cells per side of a tracing grid")
     parser.add_argument("--seed", type=int, default=7)
     args = parser.parse_args()
     if args.surface:
         chosen = {args.surface[0]: args.surface[1]}
     else:
-        chosen = {k: SURFACES[k] for k in (args.only or SURFACES)}
+        chosen = {k: surfaces[k] for k in (args.only or surfaces)}
     with np.errstate(invalid="ignore", divide="ignore"):
         for name, expression in chosen.items():
             make_case(args.outdir, name, expression, args.grid, args.seed)
 
+
+def main():
+    command_line(__doc__, SURFACES, make_case, 1201, "EXPRESSION")
 
 if __name__ == "__main__":
     main()
