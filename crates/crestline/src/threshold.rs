@@ -187,6 +187,18 @@ pub fn choose_threshold(values: &[f64], threshold: &Threshold, no_knee: NoKnee) 
     }
 }
 
+/// The value where `threshold`'s knee search over `values` starts (the value at `start` of
+/// the sorted values at or above its floor: the top of the slowly rising part the paper's
+/// search skips). `None` for a fixed threshold, or when the searched part is flat or has
+/// fewer than 8 values.
+pub fn search_start(values: &[f64], threshold: &Threshold) -> Option<f64> {
+    let Threshold::Knee { floor, search } = threshold else {
+        return None;
+    };
+    let candidates: Vec<f64> = values.iter().copied().filter(|&t| t >= *floor).collect();
+    searched_part(&candidates, search).map(|part| part.sorted[part.lo])
+}
+
 /// The values searched by [`seek_threshold`] and [`split_threshold`].
 struct Searched {
     /// The finite values sorted ascending (on the log scale, those `> 0`).

@@ -474,7 +474,13 @@ fn trace_by_method(
             let chosen = family_thresholds(&saliency.saliency, curvature, &mwz.threshold, no_knee);
             record_threshold(chosen.all, stats);
             stats.family_thresholds = Some([chosen.ridge, chosen.valley]);
-            link_feature_points(surface, curvature, &saliency.saliency, &chosen, &mwz.link)
+            link_feature_points(
+                surface,
+                curvature,
+                &saliency.saliency,
+                |kind| chosen.of(kind),
+                &mwz.link,
+            )
         }
     })
 }

@@ -77,7 +77,6 @@ use super::filter::HPW_DEFAULT_THRESHOLD;
 use crate::curvature::Curvature;
 use crate::mesh::{TriMesh, Vec3};
 use crate::slices::union_find_root;
-use crate::threshold::ChosenThreshold;
 
 use rayon::prelude::*;
 
@@ -107,41 +106,6 @@ impl Default for LinkOptions {
             weak_fraction: 0.8,
             extend: true,
             min_strength: HPW_DEFAULT_THRESHOLD,
-        }
-    }
-}
-
-/// The saliency thresholds of the feature points, by family
-/// ([`crate::saliency::family_thresholds`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FamilyThresholds {
-    /// The threshold over all vertices (the paper's).
-    pub all: ChosenThreshold,
-    /// The threshold of ridge points: `all`, or the ridges' own knee where it is lower.
-    pub ridge: f64,
-    /// The threshold of valley points: `all`, or the valleys' own knee where it is lower.
-    pub valley: f64,
-}
-
-impl FamilyThresholds {
-    /// The same threshold for both families.
-    pub fn uniform(threshold: f64) -> Self {
-        FamilyThresholds {
-            all: ChosenThreshold {
-                value: threshold,
-                from_knee: false,
-                from_split: false,
-            },
-            ridge: threshold,
-            valley: threshold,
-        }
-    }
-
-    /// The threshold of `kind`'s feature points.
-    pub fn of(&self, kind: LineKind) -> f64 {
-        match kind {
-            LineKind::Ridge => self.ridge,
-            LineKind::Valley => self.valley,
         }
     }
 }
@@ -202,17 +166,17 @@ pub fn crest_points(mesh: &TriMesh, curvature: &Curvature) -> Vec<Option<CrestPo
 }
 
 /// Links the crest points ([`crest_points`]) whose vertices' `saliency` exceeds the threshold
-/// of their kind into feature lines.
+/// of their kind (`threshold(kind)`) into feature lines.
 pub fn link_feature_points(
     mesh: &TriMesh,
     curvature: &Curvature,
     saliency: &[f64],
-    thresholds: &FamilyThresholds,
+    threshold: impl Fn(LineKind) -> f64,
     options: &LinkOptions,
 ) -> FeatureLines {
     let n = mesh.num_vertices();
     let crest = crest_points(mesh, curvature);
-    let threshold = |v: usize| crest[v].map(|c| thresholds.of(c.kind));
+    let threshold = |v: usize| crest[v].map(|c| threshold(c.kind));
     let mut feature: Vec<bool> = (0..n)
         .map(|v| threshold(v).is_some_and(|t| saliency[v] > t))
         .collect();
@@ -672,8 +636,7 @@ mod tests {
                 saliency[v] = if (p.x - 0.5).abs() < 1e-9 { 0.9 } else { 1.5 };
             }
         }
-        let thresholds = FamilyThresholds::uniform(1.0);
-        let lines = link_feature_points(&mesh, &c, &saliency, &thresholds, &LinkOptions::default());
+        let lines = link_feature_points(&mesh, &c, &saliency, |_| 1.0, &LinkOptions::default());
         assert_eq!(
             lines.lines.len(),
             1,

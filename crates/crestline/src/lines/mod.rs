@@ -51,6 +51,16 @@ impl LineKind {
             LineKind::Valley => "valley",
         }
     }
+
+    /// The curvature condition of the kind: its own principal curvature `k` (`k_max` for
+    /// ridges, `k_min` for valleys) dominates the other's, `k > |k_other|` for ridges and
+    /// `k < −|k_other|` for valleys.
+    pub fn dominates(self, k: f64, k_other: f64) -> bool {
+        match self {
+            LineKind::Ridge => k > k_other.abs(),
+            LineKind::Valley => k < -k_other.abs(),
+        }
+    }
 }
 
 /// Where a line point sits on the mesh.

@@ -49,10 +49,11 @@ pub fn is_crest_edge(mesh: &TriMesh, family: &Family<'_>, e: u32) -> bool {
     let slope = ea * (pb - pa).dot(&da) + eb * (pa - pb).dot(&db);
     let lerp = |f: &[f64]| f[a as usize] * (1.0 - t) + f[b as usize] * t;
     let (k, k_other) = (lerp(family.k), lerp(family.k_other));
-    match family.kind {
-        LineKind::Ridge => slope > 0.0 && k > k_other.abs(),
-        LineKind::Valley => slope < 0.0 && k < -k_other.abs(),
-    }
+    let falling = match family.kind {
+        LineKind::Ridge => slope > 0.0,
+        LineKind::Valley => slope < 0.0,
+    };
+    falling && family.kind.dominates(k, k_other)
 }
 
 /// Traces the crest segments of `family` edge by edge.

@@ -24,8 +24,7 @@ mod sums;
 #[cfg(test)]
 mod tests;
 
-pub use crate::lines::link::FamilyThresholds;
-pub use family::family_thresholds;
+pub use family::{FamilyThresholds, family_thresholds};
 use sums::variation_with;
 
 /// Options of [`mesh_saliency`].

@@ -176,6 +176,24 @@ fn saliency_automatic_threshold_keeps_fandisks_creases() {
     );
 }
 
+/// Each family's threshold is the knee over all vertices or its own where that is lower
+/// (`saliency::family`): on the bunny the ridges' own knee is lower (measured 192 against
+/// 200) and the valleys' higher (314), which must not raise their threshold: the points the
+/// paper's knee keeps stay feature points.
+#[test]
+fn saliency_family_thresholds_only_lower_the_knee_over_all() {
+    let mesh = common::load_shared("stanford-bunny.obj");
+    let result = extract(&mesh, &ExtractOptions::for_method(Method::Saliency)).unwrap();
+    let s = &result.stats;
+    let [ridge, valley] = s
+        .family_thresholds
+        .expect("the saliency method's thresholds");
+    eprintln!("bunny: all {} ridges {ridge} valleys {valley}", s.threshold);
+    assert!(s.threshold_is_auto && s.threshold.is_finite(), "{s:?}");
+    assert!(ridge < s.threshold, "{s:?}");
+    assert_eq!(valley, s.threshold, "{s:?}");
+}
+
 #[test]
 fn saliency_knee_separates_fandisks_crease_vertices_from_its_flat_ones() {
     // The threshold itself, before any linking, on the paper's saliency: the paper's cubic fit

@@ -528,6 +528,15 @@ fn saliency_valleys_beside_a_ridge_have_a_knee_of_their_own() {
     // 0.687 -> 0.822 (score.py, strong lines only: 0.753 -> 0.957, 0.788 -> 0.920).
     check_f1(Method::Saliency, "ridge/irr20k", 0.89);
     check_f1(Method::Saliency, "ridge/noisy20k", 0.78);
+    for case in ["ridge/irr20k", "ridge/noisy20k"] {
+        let result = extract(&load(case), &ExtractOptions::for_method(Method::Saliency)).unwrap();
+        let s = &result.stats;
+        let [ridge, valley] = s.family_thresholds.unwrap();
+        assert!(
+            ridge == s.threshold && valley < s.threshold,
+            "{case}: {s:?}"
+        );
+    }
 }
 
 #[test]
