@@ -20,6 +20,7 @@ fandisk-hpw   fandisk.obj         hpw  30,20
 fandisk-ybs   fandisk.obj         ybs  30,20   --rings=1
 bunny-hpw     stanford-bunny.obj  hpw  30,20
 igea-hpw      igea.ply            hpw  20,10   --threshold=auto
+igea-saliency igea.ply            saliency 20,10
 rocker-ybs    rocker-arm.obj      ybs  30,30   --rings=2
 teapot-hpw    teapot.obj          hpw  30,20
 LIST
