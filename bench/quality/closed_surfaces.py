@@ -50,11 +50,12 @@ SURFACES = {
     # x^6 + y^6 + z^6 = 1: sharper edges than the public x^4 + y^4 + z^4 = 1
     "superquadric6": "(dx**6 + dy**6 + dz**6)**(-1/6)",
     # a sphere with six elliptic Gaussian bumps and dents of other sizes than the public bumpy's
-    # (elliptic: on a bump of revolution one family's extremality is zero all over it, and its
-    # crest lines are not defined)
-    "bumpy2": "1 + 0.18*exp(-((dx-0.8)**2/0.05 + (dy-0.6)**2/0.12 + dz**2/0.08))"
+    # (elliptic, each 1.7 to 2.6 times wider one way than the other in its tangent plane: on a
+    # bump of revolution one family's extremality is zero all over it, and its crest lines are
+    # not defined)
+    "bumpy2": "1 + 0.18*exp(-((dx-0.8)**2/0.05 + (dy-0.6)**2/0.12 + dz**2/0.04))"
     " - 0.12*exp(-((dx+0.6)**2/0.2 + (dy-0.64)**2/0.1 + (dz-0.48)**2/0.06))"
-    " + 0.1*exp(-(dx**2/0.05 + (dy+0.6)**2/0.03 + (dz-0.8)**2/0.08))"
+    " + 0.1*exp(-(dx**2/0.1 + (dy+0.6)**2/0.03 + (dz-0.8)**2/0.08))"
     " + 0.15*exp(-((dx+0.48)**2/0.1 + (dy+0.36)**2/0.2 + (dz+0.8)**2/0.15))"
     " - 0.1*exp(-((dx-0.36)**2/0.04 + (dy+0.48)**2/0.08 + (dz+0.8)**2/0.06))"
     " + 0.12*exp(-((dx-0.6)**2/0.06 + dy**2/0.03 + (dz+0.8)**2/0.04))",
