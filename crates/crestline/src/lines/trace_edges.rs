@@ -49,11 +49,12 @@ pub fn is_crest_edge(mesh: &TriMesh, family: &Family<'_>, e: u32) -> bool {
     let slope = ea * (pb - pa).dot(&da) + eb * (pa - pb).dot(&db);
     let lerp = |f: &[f64]| f[a as usize] * (1.0 - t) + f[b as usize] * t;
     let (k, k_other) = (lerp(family.k), lerp(family.k_other));
-    let falling = match family.kind {
+    // A maximum of k_max (ridges) or a minimum of k_min (valleys) along the edge.
+    let extremum = match family.kind {
         LineKind::Ridge => slope > 0.0,
         LineKind::Valley => slope < 0.0,
     };
-    falling && family.kind.dominates(k, k_other)
+    extremum && family.kind.dominates(k, k_other)
 }
 
 /// Traces the crest segments of `family` edge by edge.
