@@ -141,6 +141,10 @@ pub struct ChosenThreshold {
     /// True when the values had no knee and the threshold is their split
     /// ([`NoKnee::Split`], [`split_threshold`]).
     pub from_split: bool,
+    /// Where the knee search started: the value at `start` of the sorted values at or above
+    /// the floor, the top of the slowly rising part the paper's search skips. `None` for a
+    /// fixed threshold, or when the searched part was flat or had fewer than 8 values.
+    pub search_start: Option<f64>,
 }
 
 /// What [`choose_threshold`] answers when the values have no knee.
@@ -162,17 +166,23 @@ pub enum NoKnee {
 /// raised to the floor, or what `no_knee` says when they have none (the line pipelines keep
 /// the floor; the saliency method splits a rising curve and keeps no point of a flat one).
 pub fn choose_threshold(values: &[f64], threshold: &Threshold, no_knee: NoKnee) -> ChosenThreshold {
-    let chosen = |value: f64, from_knee: bool, from_split: bool| ChosenThreshold {
-        value,
-        from_knee,
-        from_split,
-    };
     match *threshold {
-        Threshold::Fixed(value) => chosen(value, false, false),
+        Threshold::Fixed(value) => ChosenThreshold {
+            value,
+            from_knee: false,
+            from_split: false,
+            search_start: None,
+        },
         Threshold::Knee { floor, search } => {
             let candidates: Vec<f64> = values.iter().copied().filter(|&t| t >= floor).collect();
             // Sorted once for the knee and the split.
             let part = searched_part(&candidates, &search);
+            let chosen = |value: f64, from_knee: bool, from_split: bool| ChosenThreshold {
+                value,
+                from_knee,
+                from_split,
+                search_start: part.as_ref().map(|p| p.sorted[p.lo]),
+            };
             if let Some(knee) = part.as_ref().and_then(|p| p.knee(&search)) {
                 return chosen(floor.max(knee), true, false);
             }
@@ -185,18 +195,6 @@ pub fn choose_threshold(values: &[f64], threshold: &Threshold, no_knee: NoKnee) 
             }
         }
     }
-}
-
-/// The value where `threshold`'s knee search over `values` starts (the value at `start` of
-/// the sorted values at or above its floor: the top of the slowly rising part the paper's
-/// search skips). `None` for a fixed threshold, or when the searched part is flat or has
-/// fewer than 8 values.
-pub fn search_start(values: &[f64], threshold: &Threshold) -> Option<f64> {
-    let Threshold::Knee { floor, search } = threshold else {
-        return None;
-    };
-    let candidates: Vec<f64> = values.iter().copied().filter(|&t| t >= *floor).collect();
-    searched_part(&candidates, search).map(|part| part.sorted[part.lo])
 }
 
 /// The values searched by [`seek_threshold`] and [`split_threshold`].

@@ -16,15 +16,16 @@
 //! its own, so that every point the paper's threshold keeps stays a feature point. Its own knee
 //! counts only where it stands above the flat part of the whole shape: the value where the
 //! paper's search over all vertices starts (the median, the start of
-//! [`crate::threshold::KneeSearch`], [`search_start`]). A family the shape does not have (the
-//! valleys of a convex part) is made of the flat vertices that happen to bend its way, whose
-//! knee lies down there: on noisy CAD parts such knees sat at the 8th to the 19th percentile of
-//! all vertices, those of the height fields' and the public ridge's weaker families at the 70th
-//! to the 92nd. The guard is not a clean cut everywhere: the public bumpy sphere's dents, a
-//! real but weak valley family, have their knee at the 18th to the 56th percentile and take it
-//! on two of its five meshings; and where most vertices lie on planes (CAD parts) the median is
-//! about 0 and lets any family knee through (no part lost a line to it). A fixed threshold applies to both families as it is, and
-//! a flat saliency (no knee and no split over all vertices: a sphere, a torus) keeps no point.
+//! [`crate::threshold::KneeSearch`]; [`ChosenThreshold::search_start`]). A family the shape
+//! does not have (the valleys of a convex part) is made of the flat vertices that happen to
+//! bend its way, whose knee lies down there: on noisy CAD parts such knees sat at the 8th to
+//! the 19th percentile of all vertices, those of the height fields' and the public ridge's
+//! weaker families at the 70th to the 92nd. The guard is not a clean cut everywhere: the
+//! public bumpy sphere's dents, a real but weak valley family, have their knee at the 18th to
+//! the 56th percentile and take it on two of its five meshings; and where most vertices lie on
+//! planes (CAD parts) the median is about 0 and lets any family knee through (no part lost a
+//! line to it). A fixed threshold applies to both families as it is, and a flat saliency (no
+//! knee and no split over all vertices: a sphere, a torus) keeps no point.
 //!
 //! Measured (`score.py --method saliency`, BENCHMARKS.md "The saliency's knee per family"):
 //! public cases mean F1 0.941 → 0.961; six height fields not in `../shared` 0.798 → 0.869
@@ -35,7 +36,7 @@
 
 use crate::curvature::Curvature;
 use crate::lines::LineKind;
-use crate::threshold::{ChosenThreshold, NoKnee, Threshold, choose_threshold, search_start};
+use crate::threshold::{ChosenThreshold, NoKnee, Threshold, choose_threshold};
 
 /// The saliency thresholds of the feature points, by family.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,6 +57,7 @@ impl FamilyThresholds {
                 value: threshold,
                 from_knee: false,
                 from_split: false,
+                search_start: None,
             },
             ridge: threshold,
             valley: threshold,
@@ -90,7 +92,7 @@ pub fn family_thresholds(
         return same;
     }
     // Where the paper's search over all vertices starts: the top of the shape's flat part.
-    let Some(flat_top) = search_start(saliency, threshold) else {
+    let Some(flat_top) = all.search_start else {
         return same;
     };
     let own = |kind: LineKind| {
@@ -200,7 +202,7 @@ mod tests {
         let (saliency, curvature) = shape(ridges, valleys);
         let t = family_thresholds(&saliency, &curvature, &knee(), NoKnee::Value(5.0));
         assert!(!t.all.from_knee, "{t:?}");
-        assert_eq!(t, FamilyThresholds::uniform(5.0));
+        assert_eq!((t.all.value, t.ridge, t.valley), (5.0, 5.0, 5.0), "{t:?}");
     }
 
     #[test]

@@ -149,8 +149,8 @@ pub struct JetFitOptions {
     pub min_points: usize,
     /// Grow the radius with the noise the fits' residuals measure: on white noise with its
     /// standard deviation ([`noise_radius`]), elsewhere with the residual itself. Clean meshes
-    /// are not affected. (On white noise the fit keeps
-    /// the curved heights, module docs step 3, with or without it.)
+    /// are not affected. (On white noise the fit keeps the curved heights, module docs step
+    /// 3, with or without it.)
     ///
     /// Default: `true`.
     pub adapt_to_noise: bool,
@@ -222,9 +222,10 @@ pub struct JetFitReport {
     pub noise: f64,
     /// The standard deviation of the noise, in units of h: the median over the probe of the
     /// per-disc ratios of the fit's residual to the residual that white noise of unit
-    /// standard deviation leaves in expectation (a median of square roots: a little low, 0.095
-    /// to 0.098 for noise of 0.1 spacings, alike on regular and irregular meshes) (`Σ w − Σ w² mᵀ M⁻¹ m` of the weighted sum of squares: the fit
-    /// takes up part of the noise). On the public noisy cases, made with noise of 0.1 times
+    /// standard deviation leaves in expectation (`Σ w − Σ w² mᵀ M⁻¹ m` of the weighted sum of
+    /// squares: the fit takes up part of the noise). A median of square roots, it reads a
+    /// little low: 0.095 to 0.098 for noise of 0.1 spacings, alike on regular and irregular
+    /// meshes. On the public noisy cases, made with noise of 0.1 times
     /// the mean edge, it measures 0.096 to 0.118 where `noise` measures 0.075 to 0.090. On
     /// white noise the radius is chosen by it ([`noise_radius`]); it scales the simulated
     /// noise ([`crate::curvature::Curvature::extremality_noise`]) and weighs the quartic's
@@ -401,10 +402,9 @@ pub fn jet_fit_split(
 /// The fits' residual (in sample spacings, [`JetFitReport::noise`]) above which a mesh counts
 /// as noisy and its disc widens ([`noise_radius`]: on white noise by the noise's standard
 /// deviation, which on a mesh just above this level can leave the base radius; elsewhere by
-/// the residual). Clean
-/// meshes measure below it: their residual is the quartic probe's truncation error (below 0.0003
-/// spacings on the public clean cases, bumps of 3 to 4 spacings included), and they keep
-/// the base radius and report no noise. Truncation error is not told from noise here; the
+/// the residual). Clean meshes measure below it: their residual is the quartic probe's
+/// truncation error (below 0.0003 spacings on the public clean cases, bumps of 3 to 4
+/// spacings included), and they keep the base radius and report no noise. Truncation error is not told from noise here; the
 /// curved heights (module docs, step 3) leave less of it on tubes: the coarsest public torus
 /// (`ring/reg5k`) measured 0.0013 with the heights alone and was fitted as a noisy mesh,
 /// now it is taken for clean. A coarser one (64 × 20 samples) still measures 0.0015 and
@@ -418,9 +418,8 @@ pub const REFERENCE_NOISE: f64 = 0.0005;
 /// it on the regular public noisy meshes (`JetFitReport::sigma` over `noise`; 1/1.24 on the
 /// regular height fields of `bench/quality/height_fields.py`, 1/1.48 on one) and 1/1.48 to
 /// 1/1.56 on irregular ones made alike (`bench/quality/noisy_cases.py`), whose unequal
-/// weights leave fewer samples in effect; at
-/// 1.3 times [`REFERENCE_NOISE`] the regular meshes keep the radii they had when the
-/// radius was chosen by the residual.
+/// weights leave fewer samples in effect; at 1.3 times [`REFERENCE_NOISE`] the regular meshes
+/// keep the radii they had when the radius was chosen by the residual.
 pub const REFERENCE_SIGMA: f64 = 1.3 * REFERENCE_NOISE;
 
 /// The radius (in sample spacings) for white noise of standard deviation σ (in sample
