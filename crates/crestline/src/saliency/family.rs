@@ -27,12 +27,12 @@
 //! line to it). A fixed threshold applies to both families as it is, and a flat saliency (no
 //! knee and no split over all vertices: a sphere, a torus) keeps no point.
 //!
-//! Measured (`score.py --method saliency`, BENCHMARKS.md "The saliency's knee per family"):
-//! public cases mean F1 0.941 → 0.961; six height fields not in `../shared` 0.798 → 0.869
-//! (two crossing Gaussian ridges, clean, 0.706 → 0.999: their valleys); 100 noisy surfaces
-//! made alike 0.758 → 0.819 (31 up, 2 down by at most 0.012); noisy CAD parts made alike 0.941
-//! → 0.936 (a dome cap 0.615 → 0.542, a keyed shaft 0.962 → 0.929: the ridges' own knee, a few
-//! percent under the one over all, lets more noise ridges through on their cylinders).
+//! Measured (`score.py --method saliency`, BENCHMARKS.md "The saliency's knee per family"): public
+//! cases mean F1 0.941 → 0.961; six height fields not in `../shared` 0.798 → 0.869 (two crossing
+//! Gaussian ridges, clean, 0.706 → 0.999: their valleys); 100 noisy surfaces made alike 0.758 →
+//! 0.819 (31 up, 2 down by at most 0.012); noisy CAD parts made alike 0.941 → 0.936 (a dome cap
+//! 0.615 → 0.542, a keyed shaft 0.962 → 0.929: the ridges' own knee, a few percent under the one
+//! over all, lets more noise ridges through on their cylinders).
 
 use crate::curvature::Curvature;
 use crate::lines::LineKind;
@@ -50,20 +50,6 @@ pub struct FamilyThresholds {
 }
 
 impl FamilyThresholds {
-    /// The same threshold for both families.
-    pub fn uniform(threshold: f64) -> Self {
-        FamilyThresholds {
-            all: ChosenThreshold {
-                value: threshold,
-                from_knee: false,
-                from_split: false,
-                search_start: None,
-            },
-            ridge: threshold,
-            valley: threshold,
-        }
-    }
-
     /// The threshold of `kind`'s feature points.
     pub fn of(&self, kind: LineKind) -> f64 {
         match kind {
@@ -132,6 +118,20 @@ mod tests {
     const NO_KNEE: NoKnee = NoKnee::Split {
         flat: f64::INFINITY,
     };
+
+    /// The same threshold for both families, not from a knee.
+    fn uniform(threshold: f64) -> FamilyThresholds {
+        FamilyThresholds {
+            all: ChosenThreshold {
+                value: threshold,
+                from_knee: false,
+                from_split: false,
+                search_start: None,
+            },
+            ridge: threshold,
+            valley: threshold,
+        }
+    }
 
     /// `count` values spread evenly over `[lo, hi]`.
     fn ramp(count: usize, lo: f64, hi: f64) -> impl Iterator<Item = f64> {
@@ -212,9 +212,9 @@ mod tests {
             ramp(1000, 0.0, 1.0).chain(ramp(100, 1.5, 1.6)).collect(),
         );
         let fixed = family_thresholds(&saliency, &curvature, &Threshold::Fixed(2.0), NO_KNEE);
-        assert_eq!(fixed, FamilyThresholds::uniform(2.0));
+        assert_eq!(fixed, uniform(2.0));
         let flat = vec![1.0; saliency.len()];
         let t = family_thresholds(&flat, &curvature, &knee(), NO_KNEE);
-        assert_eq!(t, FamilyThresholds::uniform(f64::INFINITY));
+        assert_eq!(t, uniform(f64::INFINITY));
     }
 }

@@ -221,15 +221,14 @@ pub struct JetFitReport {
     /// is not white (scans, CAD exports: [`noise_radius`]).
     pub noise: f64,
     /// The standard deviation of the noise, in units of h: the median over the probe of the
-    /// per-disc ratios of the fit's residual to the residual that white noise of unit
-    /// standard deviation leaves in expectation (`Σ w − Σ w² mᵀ M⁻¹ m` of the weighted sum of
-    /// squares: the fit takes up part of the noise). A median of square roots, it reads a
-    /// little low: 0.095 to 0.098 for noise of 0.1 spacings, alike on regular and irregular
-    /// meshes. On the public noisy cases, made with noise of 0.1 times
-    /// the mean edge, it measures 0.096 to 0.118 where `noise` measures 0.075 to 0.090. On
-    /// white noise the radius is chosen by it ([`noise_radius`]); it scales the simulated
-    /// noise ([`crate::curvature::Curvature::extremality_noise`]) and weighs the quartic's
-    /// extra noise.
+    /// per-disc ratios of the fit's residual to the residual that white noise of unit standard
+    /// deviation leaves in expectation (`Σ w − Σ w² mᵀ M⁻¹ m` of the weighted sum of squares: the
+    /// fit takes up part of the noise). A median of square roots, it reads a little low: 0.095 to
+    /// 0.098 for noise of 0.1 spacings, alike on regular and irregular meshes. On the public noisy
+    /// cases, made with noise of 0.1 times the mean edge, it measures 0.096 to 0.118 where `noise`
+    /// measures 0.075 to 0.090. On white noise the radius is chosen by it ([`noise_radius`]); it
+    /// scales the simulated noise ([`crate::curvature::Curvature::extremality_noise`]) and weighs
+    /// the quartic's extra noise.
     pub sigma: f64,
     /// The weight of the quartic against the cubic in the fits (see
     /// [`JetFitOptions::degree`]): 1 for quartics, 0 for cubics; on noisy meshes its median
@@ -399,17 +398,17 @@ pub fn jet_fit_split(
     Ok((curvature, report))
 }
 
-/// The fits' residual (in sample spacings, [`JetFitReport::noise`]) above which a mesh counts
-/// as noisy and its disc widens ([`noise_radius`]: on white noise by the noise's standard
-/// deviation, which on a mesh just above this level can leave the base radius; elsewhere by
-/// the residual). Clean meshes measure below it: their residual is the quartic probe's
-/// truncation error (below 0.0003 spacings on the public clean cases, bumps of 3 to 4
-/// spacings included), and they keep the base radius and report no noise. Truncation error is not told from noise here; the
-/// curved heights (module docs, step 3) leave less of it on tubes: the coarsest public torus
-/// (`ring/reg5k`) measured 0.0013 with the heights alone and was fitted as a noisy mesh,
-/// now it is taken for clean. A coarser one (64 × 20 samples) still measures 0.0015 and
-/// gets a disc of 3.3 spacings (5.6 before), where the blend of cubic and quartic (module
-/// docs, *Degree*) finds the cubic's bias far above the noise and fits quartics.
+/// The fits' residual (in sample spacings, [`JetFitReport::noise`]) above which a mesh counts as
+/// noisy and its disc widens ([`noise_radius`]: on white noise by the noise's standard deviation,
+/// which on a mesh just above this level can leave the base radius; elsewhere by the residual).
+/// Clean meshes measure below it: their residual is the quartic probe's truncation error (below
+/// 0.0003 spacings on the public clean cases, bumps of 3 to 4 spacings included), and they keep the
+/// base radius and report no noise. Truncation error is not told from noise here; the curved
+/// heights (module docs, step 3) leave less of it on tubes: the coarsest public torus
+/// (`ring/reg5k`) measured 0.0013 with the heights alone and was fitted as a noisy mesh, now it is
+/// taken for clean. A coarser one (64 × 20 samples) still measures 0.0015 and gets a disc of 3.3
+/// spacings (5.6 before), where the blend of cubic and quartic (module docs, *Degree*) finds the
+/// cubic's bias far above the noise and fits quartics.
 pub const REFERENCE_NOISE: f64 = 0.0005;
 
 /// The noise's standard deviation (in sample spacings) that the fitting radius is referred
