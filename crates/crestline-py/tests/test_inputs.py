@@ -504,6 +504,7 @@ def test_extract_drops_the_lines_the_noise_moves_about_unless_told_to_keep_them(
     vertices, faces = crestline.read_mesh(case_path("bumpy/noisy20k"))
     default = crestline.extract(vertices, faces)
     assert default.stats["jet_fit"]["white_noise"]
+    assert default.stats["jet_fit"]["calls_for_smoothing"]
     assert default.stats["jet_fit"]["noise_growth"] == pytest.approx(1.0, abs=0.1)
     assert default.stats["lines_unlocated"] > 0
     assert default.stats["lines_trimmed"] > 0

@@ -90,8 +90,10 @@ pub struct Args {
     pub method: MethodArg,
     /// Extremality smoothing steps, every method (the saliency method links crest points).
     /// Default: automatic. With the jet-fit estimator 2 steps on meshes the fit finds noisy
-    /// (`--stats` shows the noise it measured) and none on clean ones, where the fit has
-    /// averaged enough; 2 with --estimator shape-operator or cubic-fit. Any other smoothing
+    /// (`--stats` shows the noise it measured: white noise, or another residual above 0.003
+    /// spacings, as of scans) and none on clean ones, where the fit has averaged enough (nor
+    /// on coarse clean meshes, whose truncation error it measures below that level); 2 with
+    /// --estimator shape-operator or cubic-fit. Any other smoothing
     /// option (--smooth-time, --no-twicing, --crease-angle, --mask*) makes the 2 steps run on
     /// clean meshes too. 0 turns it off, which for YBS is the method as published. At most
     /// 1000 (more smoothing: a larger --smooth-time).
@@ -949,9 +951,14 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
                     j.sigma,
                     j.noise_growth,
                     if j.white_noise() {
-                        "white"
+                        "white".to_string()
+                    } else if j.calls_for_smoothing() {
+                        "not white".to_string()
                     } else {
-                        "not white"
+                        format!(
+                            "not white; below {}, so not smoothed by default",
+                            crestline::curvature::jet_fit::SMOOTHING_NOISE
+                        )
                     }
                 )
             } else {
@@ -1019,6 +1026,7 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
             "quartic_weight": j.quartic_weight,
             "noise_growth": j.noise_growth,
             "white_noise": j.white_noise(),
+            "calls_for_smoothing": j.calls_for_smoothing(),
             "triangle_sampled_vertices": j.triangle_sampled,
         })),
         "load_seconds": io.load.as_secs_f64(),

@@ -162,3 +162,49 @@ fn an_ellipsoid_wound_inward_is_oriented_first_unless_told_not_to() {
     assert_eq!((found.stats.ridges, found.stats.valleys), (0, 1));
     assert_eq!(found.stats.orientation.inward, 0);
 }
+
+/// A coarse clean mesh: a crater whose rim is four to five edges across, on a grid of 51²
+/// vertices (the crater of `bench/quality/height_fields.py`). The jet fit measures its
+/// truncation error as a little noise that is not white, below
+/// [`crestline::curvature::jet_fit::SMOOTHING_NOISE`]: the default extract leaves its
+/// extremalities unsmoothed (smoothed, the rim's lines drift off it: F1 1.000 → 0.908 on
+/// the Python case), while white noise on the same mesh calls for the smoothing.
+#[test]
+fn coarse_clean_meshes_are_not_smoothed_white_noise_is() {
+    use crestline::curvature::jet_fit::{REFERENCE_NOISE, SMOOTHING_NOISE};
+    use crestline::extract::Stage;
+    let rim = |x: f64, y: f64| 0.25 * (-((x * x + 1.69 * y * y - 0.3) / 0.25).powi(2)).exp();
+    let crater = shapes::height_field(rim, [-1.0, 1.0], [-1.0, 1.0], 50, 50);
+    let options = ExtractOptions::for_method(Method::Hpw);
+    let found = crestline::extract::extract(&crater, &options).unwrap();
+    let report = found.stats.jet_fit.unwrap();
+    assert!(
+        report.noise > REFERENCE_NOISE && report.noise < SMOOTHING_NOISE,
+        "{report:?}"
+    );
+    assert!(!report.white_noise() && !report.calls_for_smoothing());
+    let smoothed = |stats: &crestline::extract::ExtractStats| {
+        stats
+            .stage_times
+            .iter()
+            .any(|(stage, _)| *stage == Stage::ExtremalitySmoothing)
+    };
+    assert!(!smoothed(&found.stats));
+    assert!(found.stats.ridges > 0);
+    let mut unsmoothed = options.clone();
+    unsmoothed.smoothing.steps = 0;
+    let plain = crestline::extract::extract(&crater, &unsmoothed).unwrap();
+    assert_eq!(found.lines.lines.len(), plain.lines.lines.len());
+    for (a, b) in found.lines.lines.iter().zip(&plain.lines.lines) {
+        assert_eq!(a.points, b.points);
+    }
+
+    let noisy = shapes::with_normal_noise(&crater, 0.1, 7).unwrap();
+    let found = crestline::extract::extract(&noisy, &options).unwrap();
+    let report = found.stats.jet_fit.unwrap();
+    assert!(
+        report.white_noise() && report.calls_for_smoothing(),
+        "{report:?}"
+    );
+    assert!(smoothed(&found.stats));
+}

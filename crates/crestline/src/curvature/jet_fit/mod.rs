@@ -260,7 +260,45 @@ impl JetFitReport {
     pub fn white_noise(&self) -> bool {
         is_white_noise(self.noise_growth)
     }
+
+    /// Whether the noise measured calls for the extremality smoothing that
+    /// [`crate::extract`] runs by default only on noisy surfaces
+    /// ([`crate::extract::ExtractOptions::smooth_only_noisy`]): white noise above
+    /// [`REFERENCE_NOISE`], any other residual above [`SMOOTHING_NOISE`].
+    pub fn calls_for_smoothing(&self) -> bool {
+        let level = if self.white_noise() {
+            REFERENCE_NOISE
+        } else {
+            SMOOTHING_NOISE
+        };
+        self.noise > level
+    }
 }
+
+/// The fits' residual (in sample spacings, [`JetFitReport::noise`]) above which a residual
+/// that is not white noise calls for the extremality smoothing
+/// ([`JetFitReport::calls_for_smoothing`]); white noise calls for it from
+/// [`REFERENCE_NOISE`] on.
+///
+/// *Why two levels.* On white noise the disc widens with the noise's fourth root
+/// ([`noise_radius`]), which keeps the noise of the third derivatives at one level whatever
+/// the noise (about σ / r⁴ for a fit of r² samples): a mesh just above the reference is as
+/// much in need of the smoothing as one far above it. A residual that is not white is
+/// surface the polynomial does not follow, and what the smoothing does to it depends on
+/// its size. On scans (13 to 590 times [`REFERENCE_NOISE`] on the shared meshes: Igea
+/// 0.0067 spacings, the horse 0.0085, the bunny 0.016) and CAD exports whose curved faces
+/// are facets (0.0057 to 0.0102 on the pocket plate, the stepped shaft and the flanged
+/// bushing of `tests/data/cad`, 0.0065 on the public slotted plate) it is detail and
+/// facets, whose short lines the smoothing takes out (without it Igea's lines double, 480
+/// → 1042, and the flanged bushing's F1 falls 0.942 → 0.891). On coarse clean meshes whose
+/// features are two to four spacings across it is the fit's own truncation error, 1.1 to
+/// 3.6 times the reference (a crater of 5K faces 0.0018, elliptic bumps on a sphere of 5K
+/// faces 0.0005, an x⁶ superquadric 0.0016; `bench/quality`), which the smoothing cannot
+/// remove: it blurs those features instead (F1 0.908 and 0.484 smoothed, 1.000 and 0.927
+/// not). The level lies between the two, about the geometric mean of 3.6 and 11.4; a mesh
+/// coarser still is taken for a scan (`--smooth-steps 0` keeps its features). Measured in
+/// BENCHMARKS.md, "Coarse clean meshes left unsmoothed".
+pub const SMOOTHING_NOISE: f64 = 6.0 * REFERENCE_NOISE;
 
 /// [`JetFitReport::white_noise`] for a [`JetFitReport::noise_growth`] of `growth`.
 fn is_white_noise(growth: f64) -> bool {
