@@ -703,7 +703,7 @@ fn stats_say_when_a_residual_is_too_little_to_smooth() {
     let output = ok(run(&["extract", s(&path), "-o", s(&out), "--stats"]));
     let table = stderr(&output);
     assert!(
-        table.contains("not white; below 0.003, so not smoothed by default"),
+        table.contains("at the default radius, below 0.003: not smoothed"),
         "{table}"
     );
     assert!(!table.contains("time extremality smoothing"), "{table}");
@@ -712,6 +712,21 @@ fn stats_say_when_a_residual_is_too_little_to_smooth() {
     let stats: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(stats["jet_fit"]["white_noise"], false, "{json}");
     assert_eq!(stats["jet_fit"]["calls_for_smoothing"], false, "{json}");
+    let base = stats["jet_fit"]["base_noise_spacings"].as_f64().unwrap();
+    assert!(base > 0.0 && base < 0.003, "{json}");
+    // Given --pre-smooth, the mesh is smoothed whatever its residual.
+    let output = ok(run(&[
+        "extract",
+        s(&path),
+        "-o",
+        s(&out),
+        "--stats",
+        "--pre-smooth",
+        "1",
+    ]));
+    let table = stderr(&output);
+    assert!(table.contains("time extremality smoothing"), "{table}");
+    assert!(!table.contains("not smoothed"), "{table}");
 }
 
 #[test]

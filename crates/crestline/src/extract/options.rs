@@ -271,12 +271,12 @@ pub struct ExtractOptions {
     pub smoothing: ExtremalitySmoothing,
     /// Run the extremality smoothing only when the curvature estimate found the surface
     /// noisy enough to call for it ([`crate::curvature::JetFitReport::calls_for_smoothing`]:
-    /// white noise, or another residual above
-    /// [`crate::curvature::jet_fit::SMOOTHING_NOISE`], as of scans and faceted CAD exports;
-    /// only the jet fit measures noise, so the papers' estimators are always smoothed). On
-    /// clean surfaces the jet fit has already averaged over a disc, and smoothing again moves
-    /// the zeros of the extremalities of small features (measured on the public bumpy sphere:
-    /// F1 0.92 → 0.22 at 5K faces, 0.99 → 0.90 at 20K), and so it does on coarse clean meshes
+    /// white noise, or another residual above [`crate::curvature::jet_fit::SMOOTHING_NOISE`],
+    /// as of scans and faceted CAD exports; a surface pre-smoothed whatever it measures; only
+    /// the jet fit measures noise, so the papers' estimators are always smoothed). On clean
+    /// surfaces the jet fit has already averaged over a disc, and smoothing again moves the
+    /// zeros of the extremalities of small features (measured on the public bumpy sphere: F1
+    /// 0.92 → 0.22 at 5K faces, 0.99 → 0.90 at 20K), and so it does on coarse clean meshes
     /// whose truncation error the fit measures as a little noise; on noisy ones it removes
     /// what noise the fit leaves. Default: true.
     pub smooth_only_noisy: bool,
