@@ -37,9 +37,8 @@ use crestline::curvature::Estimator;
 /// - `min_length`: lines shorter than this fraction of the bounding-box diagonal (of the
 ///   largest part when the mesh has several) are dropped (default 0.01).
 /// - `smooth_steps`, `smooth_time`: extremality smoothing steps (default 2 for HPW and YBS,
-///   run when the curvature estimate finds the surface noisy enough to call for them,
-///   `stats["jet_fit"]["calls_for_smoothing"]`, or it is pre-smoothed; giving a number always
-///   runs them; at most 1000) and step size relative to the squared mean edge length (default 1).
+///   run when the curvature estimate finds the surface noisy; giving a number always runs
+///   them; at most 1000) and step size relative to the squared mean edge length (default 1).
 /// - `smooth_along`: on meshes whose noise the jet fit finds white, the extremality smoothing
 ///   runs up to this many times faster along the lines than across them (default 3; 1 is HPW's
 ///   isotropic smoothing); other meshes are smoothed isotropically.

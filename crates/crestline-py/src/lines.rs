@@ -310,8 +310,6 @@ fn stats_dict<'py>(
             fit.set_item("quartic_weight", j.quartic_weight)?;
             fit.set_item("noise_growth", j.noise_growth)?;
             fit.set_item("white_noise", j.white_noise())?;
-            fit.set_item("base_noise_spacings", j.base_noise)?;
-            fit.set_item("calls_for_smoothing", j.calls_for_smoothing())?;
             fit.set_item("triangle_sampled_vertices", j.triangle_sampled)?;
             Some(fit)
         }

@@ -90,13 +90,11 @@ pub struct Args {
     pub method: MethodArg,
     /// Extremality smoothing steps, every method (the saliency method links crest points).
     /// Default: automatic. With the jet-fit estimator 2 steps on meshes the fit finds noisy
-    /// (`--stats` shows the noise it measured: white noise, or another residual above 0.003
-    /// spacings at the default radius, as of scans) or that --pre-smooth smooths, and none on
-    /// clean ones, where the fit has averaged enough (nor on coarse clean meshes, whose
-    /// truncation error it measures below that level); 2 with --estimator shape-operator or
-    /// cubic-fit. Any other smoothing option (--smooth-time, --no-twicing, --crease-angle,
-    /// --mask*) makes the 2 steps run on clean meshes too. 0 turns it off, which for YBS is
-    /// the method as published. At most 1000 (more smoothing: a larger --smooth-time).
+    /// (`--stats` shows the noise it measured) and none on clean ones, where the fit has
+    /// averaged enough; 2 with --estimator shape-operator or cubic-fit. Any other smoothing
+    /// option (--smooth-time, --no-twicing, --crease-angle, --mask*) makes the 2 steps run on
+    /// clean meshes too. 0 turns it off, which for YBS is the method as published. At most
+    /// 1000 (more smoothing: a larger --smooth-time).
     #[arg(long, value_parser = whole_number::<usize>, allow_negative_numbers = true)]
     pub smooth_steps: Option<usize>,
     /// Extremality smoothing step size T, relative to the squared mean edge length, above 0
@@ -939,10 +937,6 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
         out += &format!("gaps jumped            {}\n", s.gaps_jumped);
     }
     if let Some(j) = s.jet_fit {
-        let smoothed = s
-            .stage_times
-            .iter()
-            .any(|(stage, _)| *stage == crestline::extract::Stage::ExtremalitySmoothing);
         out += &format!(
             "jet fit                radius {:.2} spacings ({:.4} model units), quartic weight {:.2}, noise {}\n",
             j.radius,
@@ -955,15 +949,9 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
                     j.sigma,
                     j.noise_growth,
                     if j.white_noise() {
-                        "white".to_string()
-                    } else if smoothed {
-                        "not white".to_string()
+                        "white"
                     } else {
-                        format!(
-                            "not white; {:.4} at the default radius, below {}: not smoothed",
-                            j.base_noise,
-                            crestline::curvature::jet_fit::SMOOTHING_NOISE
-                        )
+                        "not white"
                     }
                 )
             } else {
@@ -1031,8 +1019,6 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
             "quartic_weight": j.quartic_weight,
             "noise_growth": j.noise_growth,
             "white_noise": j.white_noise(),
-            "base_noise_spacings": j.base_noise,
-            "calls_for_smoothing": j.calls_for_smoothing(),
             "triangle_sampled_vertices": j.triangle_sampled,
         })),
         "load_seconds": io.load.as_secs_f64(),

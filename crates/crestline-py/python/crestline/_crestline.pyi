@@ -137,8 +137,7 @@ def extract(
     - threshold: a number or "auto". HPW: strength T, default 1; YBS and saliency: "auto".
     - min_length: fraction of the bounding-box diagonal, of the largest part when the mesh
       has several (default 0.01).
-    - smooth_steps (default 2, run on surfaces noisy enough to call for them,
-      stats["jet_fit"]["calls_for_smoothing"], or pre-smoothed; a number always runs them; at most 1000), smooth_time
+    - smooth_steps (default 2, run on noisy surfaces; a number always runs them; at most 1000), smooth_time
       (default 1, relative to the squared mean edge length).
     - smooth_along: on meshes whose noise the jet fit finds white, the extremality smoothing
       runs up to this many times faster along the lines than across (default 3; 1 is HPW's

@@ -64,10 +64,9 @@
 //! with it (step 3 of issue 19: a scale that adapts to noise). The papers' estimators stay
 //! one option away (`curvature.estimator`, CLI `--estimator shape-operator` / `cubic-fit`,
 //! or `--rings k` for YBS's k-ring fit). With the jet fit, the extremality smoothing (step 3)
-//! runs only on surfaces the fit found noisy enough to call for it, or pre-smoothed
-//! ([`ExtractOptions::smooth_only_noisy`]), and the strength T of each line is corrected for
-//! the part the remaining noise adds to it ([`crate::lines::assemble`]). Figures before and
-//! after: `BENCHMARKS.md`, "Quality".
+//! runs only on surfaces the fit found noisy ([`ExtractOptions::smooth_only_noisy`]), and the
+//! strength T of each line is corrected for the part the remaining noise adds to it
+//! ([`crate::lines::assemble`]). Figures before and after: `BENCHMARKS.md`, "Quality".
 //! The saliency method uses it too: its feature points are crest points (see
 //! [`crate::lines::link`]).
 //!
@@ -341,15 +340,7 @@ pub fn extract_with_progress(
     clock.end(Stage::Curvature, t);
 
     let noise_measured = options.curvature.estimator == Estimator::JetFit;
-    // A surface pre-smoothed is one its user takes for a noisy scan; its residual, measured
-    // after the pre-smoothing, no longer tells detail from truncation error (Igea with one
-    // step of pre-smoothing: 0.0025 spacings, and its lines double unsmoothed).
-    let calls_for_smoothing = curvature.extremality_noise > 0.0
-        && (options.pre_smoothing.steps > 0
-            || curvature
-                .jet_fit
-                .is_some_and(|report| report.calls_for_smoothing()));
-    let skip = options.smooth_only_noisy && noise_measured && !calls_for_smoothing;
+    let skip = options.smooth_only_noisy && noise_measured && curvature.extremality_noise == 0.0;
     // The lines are moved back by the wide fit's bias when the fit found the surface noisy,
     // and by the smoothing's drift (measured by the smoothing) when that noise is white: where
     // the residual is mostly surface the fit does not follow (scans, subdivided models), the

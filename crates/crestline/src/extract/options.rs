@@ -270,15 +270,12 @@ pub struct ExtractOptions {
     /// deviation from the paper (see [`crate::extract`]; 0 steps is YBS as published).
     pub smoothing: ExtremalitySmoothing,
     /// Run the extremality smoothing only when the curvature estimate found the surface
-    /// noisy enough to call for it ([`crate::curvature::JetFitReport::calls_for_smoothing`]:
-    /// white noise, or another residual above [`crate::curvature::jet_fit::SMOOTHING_NOISE`],
-    /// as of scans and faceted CAD exports; a surface pre-smoothed whatever it measures; only
-    /// the jet fit measures noise, so the papers' estimators are always smoothed). On clean
-    /// surfaces the jet fit has already averaged over a disc, and smoothing again moves the
-    /// zeros of the extremalities of small features (measured on the public bumpy sphere: F1
-    /// 0.92 → 0.22 at 5K faces, 0.99 → 0.90 at 20K), and so it does on coarse clean meshes
-    /// whose truncation error the fit measures as a little noise; on noisy ones it removes
-    /// what noise the fit leaves. Default: true.
+    /// noisy ([`crate::curvature::Curvature::extremality_noise`] > 0; only the jet fit
+    /// measures noise, so the papers' estimators are always smoothed). On clean surfaces the
+    /// jet fit has already averaged over a disc, and smoothing again moves the zeros of the
+    /// extremalities of small features (measured on the public bumpy sphere: F1 0.92 → 0.22
+    /// at 5K faces, 0.99 → 0.90 at 20K); on noisy ones it removes what noise the fit leaves.
+    /// Default: true.
     pub smooth_only_noisy: bool,
     /// Where the jet fit finds the surface's noise white
     /// ([`crate::curvature::JetFitReport::white_noise`]; of the shared scans and models only

@@ -146,9 +146,9 @@
 //!
 //! [`crate::extract`] runs it on the jet fit's lines by default
 //! ([`crate::extract::ExtractOptions::debias_lines`], CLI `--no-debias` to skip it) when the
-//! fit found the surface noisy ([`crate::curvature::Curvature::extremality_noise`] > 0,
-//! whether or not its residual calls for the extremality smoothing): on clean meshes the disc
-//! is small (2.5 spacings) and the bias negligible.
+//! fit found the surface noisy ([`crate::curvature::Curvature::extremality_noise`] > 0): on
+//! clean meshes the disc is small (2.5 spacings), the bias negligible and the extremalities
+//! are not smoothed.
 
 use std::collections::HashMap;
 
@@ -951,7 +951,6 @@ mod tests {
                 spacing: 0.05,
                 radius: radius / 0.05,
                 noise: 0.0,
-                base_noise: 0.0,
                 sigma: 0.0,
                 quartic_weight: 1.0,
                 noise_growth: 1.0,

@@ -220,12 +220,6 @@ pub struct JetFitReport {
     /// depends on the triangulation (see `sigma`). The radius is chosen by it where the noise
     /// is not white (scans, CAD exports: [`noise_radius`]).
     pub noise: f64,
-    /// The same residual over discs of the default radius (2.5 spacings; `noise` itself when
-    /// the fit's radius is the default), 0 where the fit found no noise: what a residual that
-    /// is not white is judged by ([`JetFitReport::calls_for_smoothing`]), since it grows with
-    /// the disc (the stepped shaft of `tests/data/cad` measures 0.0065 spacings at the
-    /// default radius, 0.0013 at 1.5).
-    pub base_noise: f64,
     /// The standard deviation of the noise, in units of h: the median over the probe of the
     /// per-disc ratios of the fit's residual to the residual that white noise of unit standard
     /// deviation leaves in expectation (`Σ w − Σ w² mᵀ M⁻¹ m` of the weighted sum of squares: the
@@ -266,47 +260,7 @@ impl JetFitReport {
     pub fn white_noise(&self) -> bool {
         is_white_noise(self.noise_growth)
     }
-
-    /// Whether the noise measured calls for the extremality smoothing that
-    /// [`crate::extract`] runs by default only on noisy surfaces
-    /// ([`crate::extract::ExtractOptions::smooth_only_noisy`]): white noise above
-    /// [`REFERENCE_NOISE`], any other residual above [`SMOOTHING_NOISE`] at the default
-    /// radius ([`JetFitReport::base_noise`]).
-    pub fn calls_for_smoothing(&self) -> bool {
-        if self.white_noise() {
-            self.noise > REFERENCE_NOISE
-        } else {
-            self.base_noise > SMOOTHING_NOISE
-        }
-    }
 }
-
-/// The fits' residual over discs of the default radius (in sample spacings,
-/// [`JetFitReport::base_noise`]) above which a residual that is not white noise calls for the
-/// extremality smoothing ([`JetFitReport::calls_for_smoothing`]); white noise calls for it
-/// from [`REFERENCE_NOISE`] on.
-///
-/// *Why two levels.* On white noise the disc widens with the noise's fourth root
-/// ([`noise_radius`]), which keeps the noise of the third derivatives at one level whatever
-/// the noise (about σ / r⁴ for a fit of r² samples): a mesh just above the reference is as
-/// much in need of the smoothing as one far above it. A residual that is not white is
-/// surface the polynomial does not follow, and what the smoothing does to it depends on
-/// its size. On scans (13 to 580 times [`REFERENCE_NOISE`] on the shared meshes: Igea
-/// 0.0067 spacings, the horse 0.0085, the bunny 0.016) and CAD exports whose curved faces
-/// are facets (0.0057 to 0.0102 on the pocket plate, the stepped shaft and the flanged
-/// bushing of `tests/data/cad`, 0.0065 on the public slotted plate) it is detail and
-/// facets, whose short lines the smoothing takes out (without it Igea's lines double, 480
-/// → 1042, and the flanged bushing's F1 falls 0.942 → 0.891). On coarse clean meshes whose
-/// features are two to four spacings across it is the fit's own truncation error, 1.1 to
-/// 3.6 times the reference (a crater of 5K faces 0.0018, elliptic bumps on a sphere of 5K
-/// faces 0.0005, an x⁶ superquadric 0.0016; `bench/quality`), which the smoothing cannot
-/// remove: it blurs those features instead (F1 0.908 and 0.484 smoothed, 1.000 and 0.927
-/// not). The level lies between the two, about the geometric mean of 3.6 and 11.4; a mesh
-/// coarser still is taken for a scan (no smoothing steps keep its features:
-/// [`crate::smoothing::extremality::ExtremalitySmoothing::steps`] = 0). A surface
-/// pre-smoothed is smoothed whatever it measures ([`crate::extract`]). Measured in
-/// BENCHMARKS.md, "Coarse clean meshes left unsmoothed".
-pub const SMOOTHING_NOISE: f64 = 6.0 * REFERENCE_NOISE;
 
 /// [`JetFitReport::white_noise`] for a [`JetFitReport::noise_growth`] of `growth`.
 fn is_white_noise(growth: f64) -> bool {
@@ -378,25 +332,17 @@ pub fn jet_fit_split(
     // White noise leaves the same residual over a wider disc; the surface's own truncation
     // error grows with it (`JetFitReport::white_noise`). At the default radius and twice it,
     // whatever radius the fit uses.
-    // The narrow probe's residual is also the level a residual that is not white is judged
-    // by (`JetFitReport::base_noise`), when the fit's radius is not the default.
-    let (noise_growth, base_noise) = if noise > REFERENCE_NOISE {
-        let default = JetFitOptions::DEFAULT.radius;
-        let [narrow, wide] = [default, 2.0 * default]
-            .map(|radius| context.probe_noise(radius, GROWTH_PROBE_SAMPLES));
-        let growth = if narrow.sigma > 0.0 && wide.sigma.is_finite() {
-            wide.sigma / narrow.sigma
+    let noise_growth = if noise > REFERENCE_NOISE {
+        let narrow = JetFitOptions::DEFAULT.radius;
+        let [narrow, wide] = [narrow, 2.0 * narrow]
+            .map(|radius| context.probe_noise(radius, GROWTH_PROBE_SAMPLES).sigma);
+        if narrow > 0.0 && wide.is_finite() {
+            wide / narrow
         } else {
             0.0
-        };
-        let base = if options.radius == default {
-            noise
-        } else {
-            narrow.residual / spacing.max(f64::MIN_POSITIVE)
-        };
-        (growth, base)
+        }
     } else {
-        (0.0, 0.0)
+        0.0
     };
     // By the noise's standard deviation where the noise is white; elsewhere (scans, CAD
     // exports) the residual is mostly surface the polynomial does not follow, of which the
@@ -443,7 +389,6 @@ pub fn jet_fit_split(
         spacing,
         radius,
         noise,
-        base_noise,
         sigma,
         quartic_weight,
         noise_growth,
@@ -1517,31 +1462,6 @@ mod tests {
             ..white
         };
         assert!(!falling.white_noise());
-    }
-
-    #[test]
-    fn white_noise_calls_for_smoothing_from_the_reference_other_residuals_from_their_level() {
-        let report = |noise, base_noise, noise_growth| JetFitReport {
-            spacing: 1.0,
-            radius: 2.5,
-            noise,
-            base_noise,
-            sigma: noise,
-            quartic_weight: 1.0,
-            noise_growth,
-            triangle_sampled: 0,
-        };
-        let just_above = 1.1 * REFERENCE_NOISE;
-        assert!(report(just_above, just_above, 1.0).calls_for_smoothing());
-        // The same level, not white: truncation error of a coarse clean mesh.
-        assert!(!report(just_above, just_above, 4.0).calls_for_smoothing());
-        let detail = 1.1 * SMOOTHING_NOISE;
-        assert!(report(detail, detail, 4.0).calls_for_smoothing());
-        // Judged at the default radius: a smaller disc leaves less of the same detail.
-        assert!(report(0.3 * detail, detail, 4.0).calls_for_smoothing());
-        assert!(!report(detail, 0.9 * SMOOTHING_NOISE, 4.0).calls_for_smoothing());
-        // Nothing measured.
-        assert!(!report(0.0, 0.0, 0.0).calls_for_smoothing());
     }
 
     #[test]
