@@ -353,6 +353,22 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
         significant(s.total_length),
         display(output)
     );
+    let smoothed = s
+        .stage_times
+        .iter()
+        .any(|(stage, _)| *stage == crestline::extract::Stage::ExtremalitySmoothing);
+    if let Some(j) = s.jet_fit
+        && j.may_be_truncation_error()
+        && smoothed
+    {
+        eprintln!(
+            "{name}: the fit's residual ({:.4} spacings, not white) is as low as a coarse \
+             clean mesh's truncation error, and the extremalities were smoothed as a scan's; if \
+             the mesh is clean and its features only a few edges across, --smooth-steps 0 keeps \
+             them",
+            j.noise
+        );
+    }
     if s.creases > 0 {
         eprintln!(
             "sharp creases: dihedral angle > {:.1} degrees{}, length {}",

@@ -717,3 +717,37 @@ fn stats_count_the_vertices_fitted_on_the_triangles() {
         assert_eq!(count, Some(expected as u64), "{name}: {json}");
     }
 }
+
+#[test]
+fn a_low_residual_that_is_not_white_gets_a_note_on_smoothing() {
+    // A crater whose rim is four to five edges across: its truncation error passes for a
+    // little noise that is not white, and it is smoothed as a scan would be, which blurs the
+    // rim; the summary says so and how to keep it. White noise gets no such note.
+    let dir = tempfile::tempdir().unwrap();
+    let rim = |x: f64, y: f64| 0.25 * (-((x * x + 1.69 * y * y - 0.3) / 0.25).powi(2)).exp();
+    let crater = crestline::shapes::height_field(rim, [-1.0, 1.0], [-1.0, 1.0], 50, 50);
+    let path = dir.path().join("crater.obj");
+    write_mesh(&path, &crater, Format::Obj, &WriteOptions::default()).unwrap();
+    let out = dir.path().join("lines.obj");
+    let note = "--smooth-steps 0 keeps them";
+    let summary = stderr(&ok(run(&["extract", s(&path), "-o", s(&out)])));
+    assert!(summary.contains(note), "{summary}");
+    assert!(summary.contains("not white"), "{summary}");
+    let unsmoothed = stderr(&ok(run(&[
+        "extract",
+        s(&path),
+        "-o",
+        s(&out),
+        "--smooth-steps",
+        "0",
+    ])));
+    assert!(!unsmoothed.contains(note), "{unsmoothed}");
+    let quiet = stderr(&ok(run(&["extract", s(&path), "-o", s(&out), "-q"])));
+    assert!(!quiet.contains(note), "{quiet}");
+
+    let noisy = crestline::shapes::with_normal_noise(&crater, 0.1, 7).unwrap();
+    let path = dir.path().join("noisy.obj");
+    write_mesh(&path, &noisy, Format::Obj, &WriteOptions::default()).unwrap();
+    let summary = stderr(&ok(run(&["extract", s(&path), "-o", s(&out)])));
+    assert!(!summary.contains(note), "{summary}");
+}
