@@ -33,19 +33,45 @@ import numpy as np
 from noisy_parts import along_normals, read_obj
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def write_case(folder, mesh, vertices, faces, surface):
+    """Writes `folder/mesh.obj` and links the truth files of the case folder `surface` beside
+    it, so that the public scorer reads `folder` as a case."""
+    folder.mkdir(exist_ok=True)
+    with open(folder / f"{mesh}.obj", "w") as f:
+        f.writelines(f"v {x:.9f} {y:.9f} {z:.9f}\n" for x, y, z in vertices)
+        f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in faces)
+    for truth in ("truth_lines.npz", "truth_lines.obj"):
+        source, link = surface / truth, folder / truth
+        if source.exists() and not link.exists():
+            os.symlink(source, link)
+
+
+def case_set_parser(doc):
+    """The arguments every script that makes a set of cases from case folders takes: OUTDIR,
+    --cases (repeated), --mesh and --only."""
+    ap = argparse.ArgumentParser(description=doc.split("\n")[0])
     ap.add_argument("outdir")
     ap.add_argument("--cases", action="append", required=True)
     ap.add_argument("--mesh", default="reg20k")
-    ap.add_argument("--level", type=float, default=0.1)
-    ap.add_argument("--seeds", default="1,2,3")
     ap.add_argument("--only", nargs="*")
-    args = ap.parse_args()
-    out = Path(args.outdir)
+    return ap
+
+
+def open_case_set(outdir):
+    """The folder `outdir` (made if needed), its index.json's path and what it lists so far."""
+    out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     index_path = out / "index.json"
     index = json.loads(index_path.read_text()) if index_path.exists() else {}
+    return out, index_path, index
+
+
+def main():
+    ap = case_set_parser(__doc__)
+    ap.add_argument("--level", type=float, default=0.1)
+    ap.add_argument("--seeds", default="1,2,3")
+    args = ap.parse_args()
+    out, index_path, index = open_case_set(args.outdir)
     seeds = [int(s) for s in args.seeds.split(",")]
     for cases in args.cases:
         cases = Path(cases).resolve()
@@ -56,15 +82,7 @@ def main():
             for seed in seeds:
                 rng = np.random.default_rng([seed, zlib.crc32(name.encode())])
                 moved = along_normals(vertices, faces, args.level, rng)
-                folder = out / f"{name}-s{seed}"
-                folder.mkdir(exist_ok=True)
-                with open(folder / "noisy20k.obj", "w") as f:
-                    f.writelines(f"v {x:.9f} {y:.9f} {z:.9f}\n" for x, y, z in moved)
-                    f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in faces)
-                for truth in ("truth_lines.npz", "truth_lines.obj"):
-                    source, link = cases / name / truth, folder / truth
-                    if source.exists() and not link.exists():
-                        os.symlink(source, link)
+                write_case(out / f"{name}-s{seed}", "noisy20k", moved, faces, cases / name)
                 index[f"{name}-s{seed}"] = dict(entry, meshes={"noisy20k": entry["meshes"][args.mesh]})
             print(f"{name}: {len(seeds)} draws at {args.level} of the mean edge ({args.mesh})")
     index_path.write_text(json.dumps(index, indent=1))

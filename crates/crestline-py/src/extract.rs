@@ -58,6 +58,10 @@ use crestline::curvature::Estimator;
 ///   with the jet fit only). By default, on meshes the jet fit finds white noise on, they
 ///   drop the lines whose extremality crosses zero less than twice as steeply as its
 ///   estimation noise, and cut such ends off the lines they keep.
+/// - `keep_outliers`: take every vertex as it is. By default isolated outlier vertices
+///   (spikes: single vertices far off the surface their neighbours describe, as scanners
+///   leave them) are put back on that surface first, so that they are not ringed with
+///   creases and crest lines; `stats["outliers_moved"]` counts them.
 /// - `pre_smooth`: steps of implicit mean-curvature flow before anything else (off; at most
 ///   1000).
 /// - `estimator`: "jet-fit" (default), "shape-operator" or "cubic-fit". The options of
@@ -99,6 +103,7 @@ use crestline::curvature::Estimator;
     radius = None, degree = None, no_noise_adaptation = false, rings = None, mask = None,
     mask_spheres = None, mask_boxes = None, no_gaps = false, keep_orientation = false,
     no_weld = false, no_twicing = false, no_debias = false, keep_unlocated = false,
+    keep_outliers = false,
 ))]
 pub fn extract(
     py: Python<'_>,
@@ -129,6 +134,7 @@ pub fn extract(
     no_twicing: bool,
     no_debias: bool,
     keep_unlocated: bool,
+    keep_outliers: bool,
 ) -> PyResult<Lines> {
     let method = choose("method", method, &METHODS)?;
     let smooth_steps = smooth_steps.map(|n| count(n, "smooth_steps")).transpose()?;
@@ -205,6 +211,7 @@ pub fn extract(
     options.fairing.tolerance = fair.unwrap_or(options.fairing.tolerance);
     options.debias_lines = !no_debias;
     options.drop_unlocated_lines = !keep_unlocated;
+    options.repair_outliers = !keep_outliers;
     if let Some(steps) = pre_smooth {
         options.pre_smoothing = SurfaceSmoothing {
             steps,

@@ -276,6 +276,7 @@ fn stats_dict<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("triangles", s.triangles)?;
+    d.set_item("outliers_moved", s.outliers.vertices.len())?;
     d.set_item("singular_max", s.trace.singular_max)?;
     d.set_item("singular_min", s.trace.singular_min)?;
     d.set_item("fallback_vertices", s.fallback_vertices)?;

@@ -29,6 +29,7 @@ CASES = [
     ("bumpy/reg5k", ["--radius", "3.5", "--smooth-steps", "1", "--min-length", "0.02"]),
     ("ridge/reg5k", ["--rings", "2", "--no-gaps", "--method", "ybs"]),
     ("bumpy/reg5k", ["--smooth-steps", "2", "--mask-sphere", "0,0,1,0.6,0", "--mask-box", "0,-2,-2,2,2,2,3"]),
+    ("superquadric/reg5k", ["--keep-outliers", "--method", "ybs"]),
     ("ovoid/mc", ["--fair", "0.002", "--pre-smooth", "2", "--crease-angle", "0", "--threshold", "5"]),
 ]
 
@@ -39,7 +40,7 @@ def python_options(args):
     it = iter(args)
     for flag in it:
         name = flag.removeprefix("--").replace("-", "_")
-        if name in ("no_gaps", "no_noise_adaptation", "no_debias", "keep_unlocated"):
+        if name in ("no_gaps", "no_noise_adaptation", "no_debias", "keep_unlocated", "keep_outliers"):
             options[name] = True
             continue
         value = next(it)

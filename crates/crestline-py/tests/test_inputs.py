@@ -513,6 +513,30 @@ def test_extract_drops_the_lines_the_noise_moves_about_unless_told_to_keep_them(
     assert len(kept) > len(default)
 
 
+def test_extract_puts_spikes_back_unless_told_to_keep_them():
+    # The public clean ellipsoid with two vertices three mean edges off it, one out, one in.
+    vertices, faces = crestline.read_mesh(case_path("ovoid/reg20k"))
+    normals = np.zeros_like(vertices)
+    corners = vertices[faces]
+    area = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    for k in range(3):
+        np.add.at(normals, faces[:, k], area)
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    edge = np.linalg.norm(corners[:, 0] - corners[:, 1], axis=1).mean()
+    spiky = vertices.copy()
+    spiky[100] += 3 * edge * normals[100]
+    spiky[2000] -= 3 * edge * normals[2000]
+    clean = crestline.extract(vertices, faces)
+    assert clean.stats["outliers_moved"] == 0
+    repaired = crestline.extract(spiky, faces)
+    assert repaired.stats["outliers_moved"] == 2
+    assert repaired.stats["creases"] == 0
+    assert len(repaired) == len(clean)
+    kept = crestline.extract(spiky, faces, keep_outliers=True)
+    assert kept.stats["outliers_moved"] == 0
+    assert kept.stats["creases"] > 0
+
+
 def test_extract_takes_the_jet_fit_and_crease_options(fandisk):
     vertices, faces = fandisk
     default = crestline.extract(vertices, faces)

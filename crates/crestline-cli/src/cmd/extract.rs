@@ -163,6 +163,13 @@ pub struct Args {
     /// (nothing is dropped on clean meshes, nor on scans whose residual is mostly surface)
     #[arg(long)]
     pub keep_unlocated: bool,
+    /// Take every vertex as it is. By default isolated outlier vertices (spikes: single
+    /// vertices far off the surface their neighbours describe, as scanners leave them) are
+    /// put back on that surface first, so that they are not ringed with creases and crest
+    /// lines; vertices on sharp features or under white noise are not outliers by the test
+    /// (`--stats` says how many moved)
+    #[arg(long)]
+    pub keep_outliers: bool,
     /// Surface pre-smoothing steps (implicit mean-curvature flow), for very noisy scans. Off
     /// by default (the jet fit adapts to noise); not for CAD meshes, whose surface beside the
     /// creases it rounds into short spurious crest lines. At most 1000.
@@ -367,6 +374,14 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
              the mesh is clean and its features only a few edges across, --smooth-steps 0 keeps \
              them",
             j.noise
+        );
+    }
+    if !s.outliers.vertices.is_empty() {
+        let count = s.outliers.vertices.len();
+        eprintln!(
+            "{name}: {count} outlier {} (spikes off the surface of their neighbours) put back \
+             on it first; --keep-outliers keeps them",
+            if count == 1 { "vertex" } else { "vertices" }
         );
     }
     if s.creases > 0 {
@@ -753,6 +768,7 @@ pub fn options_from_args(args: &Args) -> Result<ExtractOptions> {
     }
     o.debias_lines = !args.no_debias;
     o.drop_unlocated_lines = !args.keep_unlocated;
+    o.repair_outliers = !args.keep_outliers;
     if let Some(n) = args.pre_smooth {
         o.pre_smoothing = SurfaceSmoothing {
             steps: n,
@@ -893,6 +909,13 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
     let pct = |n: usize| 100.0 * n as f64 / s.triangles.max(1) as f64;
     let mut out = String::new();
     out += &format!("triangles              {}\n", s.triangles);
+    if let Some(largest) = s.outliers.distances.iter().copied().reduce(f64::max) {
+        out += &format!(
+            "outliers               {} vertices moved onto their neighbours' surface (the farthest by {}; --keep-outliers keeps them)\n",
+            s.outliers.vertices.len(),
+            significant(largest)
+        );
+    }
     out += &format!(
         "singular (max/min)     {} ({:.2}%) / {} ({:.2}%)\n",
         s.trace.singular_max,
@@ -1002,6 +1025,7 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
     seconds.insert("write".into(), serde_json::json!(io.write.as_secs_f64()));
     serde_json::json!({
         "triangles": s.triangles,
+        "outliers_moved": s.outliers.vertices.len(),
         "singular_max": s.trace.singular_max,
         "singular_min": s.trace.singular_min,
         "lines_traced": s.lines_traced,

@@ -751,3 +751,47 @@ fn a_low_residual_that_is_not_white_gets_a_note_on_smoothing() {
     let summary = stderr(&ok(run(&["extract", s(&path), "-o", s(&out)])));
     assert!(!summary.contains(note), "{summary}");
 }
+
+#[test]
+fn spikes_are_put_back_and_the_summary_says_so() {
+    // A sphere with two vertices three edges off it: put back before anything runs, said in
+    // the summary, the text and the JSON stats; --keep-outliers leaves them, ringed by creases.
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = crestline::shapes::icosphere(1.0, 4);
+    let normals = crestline::mesh::vertex_normals_area(&sphere);
+    let edge = crestline::mesh::mean_edge_length(&sphere);
+    let mut positions = sphere.positions().to_vec();
+    for v in [100, 1500] {
+        positions[v] += normals[v] * 3.0 * edge;
+    }
+    let spiky = sphere.with_positions(positions).unwrap();
+    let path = dir.path().join("spiky.obj");
+    write_mesh(&path, &spiky, Format::Obj, &WriteOptions::default()).unwrap();
+    let out = dir.path().join("lines.obj");
+    let summary = stderr(&ok(run(&["extract", s(&path), "-o", s(&out), "--stats"])));
+    assert!(summary.contains("2 outlier vertices"), "{summary}");
+    assert!(
+        summary.contains("outliers               2 vertices moved"),
+        "{summary}"
+    );
+    assert!(summary.contains(": 0 lines"), "{summary}");
+    let json = ok(run(&[
+        "extract",
+        s(&path),
+        "-o",
+        s(&out),
+        "--stats=json",
+        "-q",
+    ]));
+    let stats: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(stats["outliers_moved"], 2, "{stats}");
+    let kept = stderr(&ok(run(&[
+        "extract",
+        s(&path),
+        "-o",
+        s(&out),
+        "--keep-outliers",
+    ])));
+    assert!(!kept.contains("outlier"), "{kept}");
+    assert!(kept.contains("sharp creases"), "{kept}");
+}

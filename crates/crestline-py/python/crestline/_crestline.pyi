@@ -126,6 +126,7 @@ def extract(
     no_twicing: bool = False,
     no_debias: bool = False,
     keep_unlocated: bool = False,
+    keep_outliers: bool = False,
 ) -> Lines:
     """Finds the ridges and valleys of the mesh (vertices, faces).
 
@@ -155,6 +156,9 @@ def extract(
       the jet fit; by default, on meshes the jet fit finds white noise on, the lines whose
       extremality crosses zero less than twice as steeply as its estimation noise are dropped,
       and such ends cut off the lines kept).
+    - keep_outliers: take every vertex as it is (by default isolated outlier vertices, the
+      spikes scanners leave, are put back on the surface of their neighbours first, so that
+      they are not ringed with creases and crest lines; stats["outliers_moved"] counts them).
     - pre_smooth: mean-curvature-flow steps first (off; at most 1000).
     - estimator: "jet-fit" (default), "shape-operator" or "cubic-fit". Options of another
       estimator than the one that runs raise ValueError, as on the command line:

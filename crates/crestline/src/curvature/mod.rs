@@ -26,6 +26,9 @@ pub mod extremality;
 pub mod jet_fit;
 pub mod shape_operator;
 
+/// Moved to [`crate::mesh`] (the outlier repair there needs it); kept here, where the
+/// estimators' frames are built.
+pub use crate::mesh::tangent_frame;
 pub use cubic_fit::{CubicFitOptions, cubic_fit};
 pub use jet_fit::{JetFitOptions, JetFitReport, jet_fit, jet_fit_report, jet_fit_split};
 pub use shape_operator::{PrincipalSelection, ShapeOperatorOptions, shape_operator};
@@ -377,29 +380,6 @@ pub fn estimate_split(
         Estimator::CubicFit => cubic_fit(mesh, &options.cubic_fit),
         Estimator::JetFit => jet_fit_split(mesh, &options.jet_fit, creases).map(|(c, _)| c),
     }
-}
-
-/// A right-handed orthonormal frame `(u, v, n)` around the unit normal `n`.
-///
-/// The tangent vectors depend only on `n`, so the (arbitrary) signs of the principal
-/// directions built from them are fixed. A zero normal (unreferenced vertex) gives the
-/// coordinate frame, so that nothing downstream sees a NaN.
-pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3, Vec3) {
-    let Some(n) = n.try_normalize(1e-300) else {
-        return (Vec3::x(), Vec3::y(), Vec3::z());
-    };
-    // Start from the coordinate axis least aligned with n: the projection is then at least
-    // sqrt(2/3) long, far from cancellation.
-    let axis = if n.x.abs() <= n.y.abs() && n.x.abs() <= n.z.abs() {
-        Vec3::x()
-    } else if n.y.abs() <= n.z.abs() {
-        Vec3::y()
-    } else {
-        Vec3::z()
-    };
-    let u = (axis - n * n.dot(&axis)).normalize();
-    let v = n.cross(&u);
-    (u, v, n)
 }
 
 /// Eigen-decomposition of the symmetric 2×2 matrix `[[a, b], [b, c]]`: returns

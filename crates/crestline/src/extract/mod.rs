@@ -77,7 +77,13 @@
 //! that face inward ([`crate::mesh::orient_outward`];
 //! [`ExtractOptions::orient_outward`], reported in [`ExtractStats::orientation`]), as the CLI
 //! does for every command (unless `--keep-orientation`). Vertex and face indices stay as
-//! they are, so the curvature fields and line locations refer to the mesh as given.
+//! they are, so the curvature fields and line locations refer to the mesh as given (their
+//! positions to the repaired surface, below, where outliers moved).
+//!
+//! *Outliers:* next (unless [`ExtractOptions::repair_outliers`] is off), isolated outlier
+//! vertices, the spikes scanners leave, are put back on the surface their neighbours describe
+//! ([`crate::mesh::outliers`]); everything after runs on the repaired surface
+//! ([`ExtractStats::outliers`]).
 //!
 //! **Saliency** (Mao, Wang, Zhou): curvature (jet fit by default), mesh saliency
 //! ([`crate::saliency`]), an automatic threshold on it ([`crate::threshold`]) and the linking
@@ -130,7 +136,9 @@ use crate::lines::merge::merge_creases;
 use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
 };
-use crate::mesh::{Orientation, TriMesh, orientation, reverse_faces};
+use crate::mesh::{
+    Orientation, OutlierRepair, TriMesh, orientation, repair_outliers, reverse_faces,
+};
 use crate::saliency::{family_thresholds, mesh_saliency};
 use crate::smoothing::extremality::{smooth_extremalities, smooth_extremalities_split};
 use crate::smoothing::surface::smooth_surface;
@@ -139,6 +147,8 @@ use crate::threshold::{ChosenThreshold, NoKnee};
 /// The named stages, for progress reports and timings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Stage {
+    /// Isolated outlier vertices put back on the surface (before everything else).
+    Outliers,
     /// Sharp creases (before step 1).
     Creases,
     /// Step 1.
@@ -166,6 +176,7 @@ impl Stage {
     /// A short human-readable name.
     pub fn name(self) -> &'static str {
         match self {
+            Stage::Outliers => "outliers",
             Stage::Creases => "creases",
             Stage::PreSmoothing => "pre-smoothing",
             Stage::Curvature => "curvature",
@@ -187,6 +198,9 @@ pub struct ExtractStats {
     pub triangles: usize,
     /// Tracing figures (singular triangles per family and cases).
     pub trace: TraceReport,
+    /// The isolated outlier vertices moved back onto their neighbours' surface
+    /// ([`ExtractOptions::repair_outliers`]; none when that step did not run).
+    pub outliers: OutlierRepair,
     /// Vertices whose curvature needed a fallback.
     pub fallback_vertices: usize,
     /// The jet fit's sample spacing, radius and measured noise level (`None` with the
@@ -259,7 +273,8 @@ pub struct ExtractStats {
 pub struct Extraction {
     /// The lines kept.
     pub lines: FeatureLines,
-    /// Curvature fields after extremality smoothing (on the pre-smoothed surface, if any).
+    /// Curvature fields after extremality smoothing (on the repaired and the pre-smoothed
+    /// surface, if any).
     pub curvature: Curvature,
     /// Figures about the run.
     pub stats: ExtractStats,
@@ -269,8 +284,10 @@ pub struct Extraction {
 /// `options.pipeline` (see the module docs for the steps), without progress reports.
 ///
 /// The mesh is taken as given except that triangles wound against their neighbours and
-/// closed components facing inward are reversed first ([`ExtractOptions::orient_outward`]). Degenerate triangles, boundaries and
-/// non-manifold edges are allowed.
+/// closed components facing inward are reversed first ([`ExtractOptions::orient_outward`])
+/// and isolated outlier vertices put back on the surface of their neighbours
+/// ([`ExtractOptions::repair_outliers`]). Degenerate triangles, boundaries and non-manifold
+/// edges are allowed.
 ///
 /// ```
 /// use crestline::extract::{ExtractOptions, Method, extract};
@@ -313,6 +330,18 @@ pub fn extract_with_progress(
     let mut clock = StageClock {
         progress,
         times: Vec::new(),
+    };
+
+    let repaired;
+    let mesh = if options.repair_outliers {
+        let t = clock.begin(Stage::Outliers);
+        let (moved, repair) = repair_outliers(mesh)?;
+        stats.outliers = repair;
+        repaired = moved;
+        clock.end(Stage::Outliers, t);
+        repaired.as_ref().unwrap_or(mesh)
+    } else {
+        mesh
     };
 
     let t = clock.begin(Stage::Creases);

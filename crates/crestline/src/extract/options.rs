@@ -253,8 +253,17 @@ pub struct ExtractOptions {
     /// for valleys nor edges for folds (see [`crate::extract`] and
     /// [`crate::mesh::orient_outward`]); `false` takes the winding as it is. Default: true.
     pub orient_outward: bool,
-    /// Sharp creases ([`crate::lines::crease`]), found before anything else on the mesh as
-    /// given: the curvature fits and the extremality smoothing do not reach across them, and
+    /// Put isolated outlier vertices (spikes: single vertices far off the surface their
+    /// neighbours describe, as scanners leave them) back on that surface before anything
+    /// else but the orientation ([`crate::mesh::outliers`]): each would otherwise be ringed by
+    /// creases and pull every fit around it into crest lines of its own. Vertices on a sharp
+    /// feature or under white noise are not outliers by that test (none of the shared meshes
+    /// or CAD parts has one). The curvature fields and the lines are those of the repaired
+    /// surface; [`crate::extract::ExtractStats::outliers`] says which vertices moved. `false`
+    /// takes every vertex as it is. Default: true.
+    pub repair_outliers: bool,
+    /// Sharp creases ([`crate::lines::crease`]), found before anything else but the
+    /// orientation and the outliers' repair: the curvature fits and the extremality smoothing do not reach across them, and
     /// they join the lines at the end. Default: [`CreaseOptions::default`] (threshold from the
     /// gap in the dihedral angles, or on a noisy mesh without one in the angles between
     /// filtered normals; none on meshes without such a gap) for every method.
@@ -341,6 +350,7 @@ impl ExtractOptions {
         ExtractOptions {
             pipeline: Pipeline::for_method(method),
             orient_outward: true,
+            repair_outliers: true,
             creases: CreaseOptions::DEFAULT,
             pre_smoothing: SurfaceSmoothing::default(),
             curvature: CurvatureOptions::default().with_estimator(Estimator::JetFit),

@@ -216,6 +216,29 @@ pub fn mean_edge_length(mesh: &TriMesh) -> f64 {
     partial.iter().sum::<f64>() / edges.len() as f64
 }
 
+/// A right-handed orthonormal frame `(u, v, n)` around the unit normal `n`.
+///
+/// The tangent vectors depend only on `n`, so the (arbitrary) signs of the principal
+/// directions built from them are fixed. A zero normal (unreferenced vertex) gives the
+/// coordinate frame, so that nothing downstream sees a NaN.
+pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3, Vec3) {
+    let Some(n) = n.try_normalize(1e-300) else {
+        return (Vec3::x(), Vec3::y(), Vec3::z());
+    };
+    // Start from the coordinate axis least aligned with n: the projection is then at least
+    // sqrt(2/3) long, far from cancellation.
+    let axis = if n.x.abs() <= n.y.abs() && n.x.abs() <= n.z.abs() {
+        Vec3::x()
+    } else if n.y.abs() <= n.z.abs() {
+        Vec3::y()
+    } else {
+        Vec3::z()
+    };
+    let u = (axis - n * n.dot(&axis)).normalize();
+    let v = n.cross(&u);
+    (u, v, n)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

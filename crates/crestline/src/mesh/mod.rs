@@ -14,6 +14,7 @@
 mod geometry;
 mod info;
 mod orient;
+pub mod outliers;
 mod sides;
 mod subdivide;
 mod topology;
@@ -21,10 +22,11 @@ pub(crate) mod weld;
 
 pub use geometry::{
     BoundingBox, face_areas, face_normal_and_area, face_normals, mean_edge_length, star_areas,
-    vertex_normals_area, vertex_normals_max,
+    tangent_frame, vertex_normals_area, vertex_normals_max,
 };
 pub use info::MeshInfo;
 pub use orient::{Orientation, orient_outward, orientation, reverse_faces, signed_volume};
+pub use outliers::{OutlierRepair, find_outliers, repair_outliers};
 pub(crate) use sides::corner_angle;
 pub use sides::{SIDE_TIE, widest_side};
 pub use subdivide::{SubdivideOptions, loop_subdivide};
