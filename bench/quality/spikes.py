@@ -52,7 +52,8 @@ def main():
             for k in range(3):
                 np.add.at(normals, f[:, k], area)
             length = np.linalg.norm(normals, axis=1)
-            edge = np.linalg.norm(v[f[:, 0]] - v[f[:, 1]], axis=1).mean()
+            edges = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+            edge = np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1).mean()
             pick = (rng.random(len(v)) < args.fraction) & (length > 0)
             signs = rng.choice([-1.0, 1.0], size=pick.sum())
             v = v.copy()

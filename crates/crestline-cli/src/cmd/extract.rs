@@ -910,9 +910,10 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
     let mut out = String::new();
     out += &format!("triangles              {}\n", s.triangles);
     if let Some(largest) = s.outliers.distances.iter().copied().reduce(f64::max) {
+        let count = s.outliers.vertices.len();
         out += &format!(
-            "outliers               {} vertices moved onto their neighbours' surface (the farthest by {}; --keep-outliers keeps them)\n",
-            s.outliers.vertices.len(),
+            "outliers               {count} {} moved onto their neighbours' surface (the farthest by {}; --keep-outliers keeps them)\n",
+            if count == 1 { "vertex" } else { "vertices" },
             significant(largest)
         );
     }

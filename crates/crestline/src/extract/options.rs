@@ -257,8 +257,8 @@ pub struct ExtractOptions {
     /// neighbours describe, as scanners leave them) back on that surface before anything
     /// else but the orientation ([`crate::mesh::outliers`]): each would otherwise be ringed by
     /// creases and pull every fit around it into crest lines of its own. Vertices on a sharp
-    /// feature or under white noise are not outliers by that test (none of the shared meshes
-    /// or CAD parts has one). The curvature fields and the lines are those of the repaired
+    /// feature or under white noise are not outliers by that test (of the shared meshes and
+    /// the CAD parts, one vertex of the horse scan moves). The curvature fields and the lines are those of the repaired
     /// surface; [`crate::extract::ExtractStats::outliers`] says which vertices moved. `false`
     /// takes every vertex as it is. Default: true.
     pub repair_outliers: bool,
