@@ -14,7 +14,7 @@ use crestline::lines::FeatureLines;
 use crestline::mesh::{EdgeKind, VertexKind, Weld};
 use crestline::smoothing::extremality::{DiffusionMask, MaskRegion};
 
-use crate::progress::note;
+use crate::progress::{counted, note};
 
 /// The built-in example: the fandisk CAD part (see `data/README.md`).
 const BUILT_IN_EXAMPLE: &[u8] = include_bytes!("../data/fandisk.obj");
@@ -128,13 +128,11 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
         given => given,
     };
     let mesh = crestline::mesh::reverse_faces(mesh, &reversed);
-    let count =
-        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     if report.rewound_faces > 0 {
         note!(
             "{name}: {} wound against their neighbours; reversed so that normals agree \
              (--keep-orientation to keep them)",
-            count(report.rewound_faces, "triangle was", "triangles were")
+            counted(report.rewound_faces, "triangle was", "triangles were")
         );
     }
     // A triangle soup (every triangle its own component: corners stored per triangle and
@@ -154,7 +152,7 @@ pub fn prepare_mesh(mesh: TriMesh, name: &str, args: PrepareArgs) -> Result<Prep
         eprintln!(
             "{name}: warning: {} not be wound consistently (non-orientable, like a Möbius strip): \
              normals, and with them ridges and valleys, swap across a seam there",
-            count(report.non_orientable, "patch could", "patches could")
+            counted(report.non_orientable, "patch could", "patches could")
         );
     }
     if report.inward > 0 {
@@ -254,25 +252,23 @@ fn note_awkward_parts(mesh: &TriMesh, name: &str) {
     let topo = mesh.topology();
     let unreferenced = topo.count_vertices(VertexKind::Unreferenced);
     let non_manifold = topo.count_edges(EdgeKind::NonManifold);
-    let plural =
-        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     let mut parts = Vec::new();
     if mesh.degenerate_faces() > 0 {
-        parts.push(plural(
+        parts.push(counted(
             mesh.degenerate_faces(),
             "degenerate triangle dropped (repeated corner or zero area)",
             "degenerate triangles dropped (repeated corner or zero area)",
         ));
     }
     if unreferenced > 0 {
-        parts.push(plural(
+        parts.push(counted(
             unreferenced,
             "unreferenced vertex ignored",
             "unreferenced vertices ignored",
         ));
     }
     if non_manifold > 0 {
-        parts.push(plural(
+        parts.push(counted(
             non_manifold,
             "non-manifold edge (more than two triangles)",
             "non-manifold edges (more than two triangles)",

@@ -56,6 +56,11 @@ pub fn step<T>(message: impl Into<std::borrow::Cow<'static, str>>, work: impl Fn
     result
 }
 
+/// `n` and the noun for it: `1 vertex`, `2 vertices`.
+pub fn counted(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 /// Writes a note on stderr unless `-q`.
 macro_rules! note {
     ($($arg:tt)*) => {

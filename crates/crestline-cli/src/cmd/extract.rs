@@ -27,7 +27,7 @@ use super::batch;
 use super::curvature::EstimatorArgs;
 use crate::input::{FormatArg, PrepareArgs, diffusion_factors, is_dash, load_mesh, prepare_mesh};
 use crate::output::{check_extension, check_output, display, to_stdout};
-use crate::progress::{self, note};
+use crate::progress::{self, counted, note};
 use crate::scene::{UpArg, UpArgs, WireframeArgs, resolve_up};
 
 /// Which pipeline runs.
@@ -315,12 +315,10 @@ pub fn run(args: Args) -> Result<()> {
 /// `2 ridges, 2 valleys, 34 convex and 4 concave creases`: the library's counts, crest lines
 /// and creases apart as the JSON lines file counts them; the creases only when there are some.
 pub fn describe_counts(s: &ExtractStats) -> String {
-    let plural =
-        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     let mut text = format!(
         "{}, {}",
-        plural(s.ridges, "ridge", "ridges"),
-        plural(s.valleys, "valley", "valleys")
+        counted(s.ridges, "ridge", "ridges"),
+        counted(s.valleys, "valley", "valleys")
     );
     let creases = s.crease_ridges + s.crease_valleys;
     if creases > 0 {
@@ -377,11 +375,14 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
         );
     }
     if !s.outliers.vertices.is_empty() {
-        let count = s.outliers.vertices.len();
         eprintln!(
-            "{name}: {count} outlier {} (spikes off the surface of their neighbours) put back \
-             on it first; --keep-outliers keeps them",
-            if count == 1 { "vertex" } else { "vertices" }
+            "{name}: {} (spikes off the surface of their neighbours) put back on it first; \
+             --keep-outliers keeps them",
+            counted(
+                s.outliers.vertices.len(),
+                "outlier vertex",
+                "outlier vertices"
+            )
         );
     }
     if s.creases > 0 {
@@ -910,10 +911,9 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
     let mut out = String::new();
     out += &format!("triangles              {}\n", s.triangles);
     if let Some(largest) = s.outliers.distances.iter().copied().reduce(f64::max) {
-        let count = s.outliers.vertices.len();
         out += &format!(
-            "outliers               {count} {} moved onto their neighbours' surface (the farthest by {}; --keep-outliers keeps them)\n",
-            if count == 1 { "vertex" } else { "vertices" },
+            "outliers               {} moved onto their neighbours' surface (the farthest by {}; --keep-outliers keeps them)\n",
+            counted(s.outliers.vertices.len(), "vertex", "vertices"),
             significant(largest)
         );
     }

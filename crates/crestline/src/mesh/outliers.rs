@@ -279,9 +279,14 @@ fn fit_without_outliers(model: Model, points: &mut Vec<(f64, f64, f64)>) -> Opti
 fn ring_plane(mesh: &TriMesh, v: u32) -> Option<(Vec3, Vec3, f64)> {
     let topo = mesh.topology();
     let faces = mesh.faces();
-    let ring: Vec<Vec3> = topo.neighbors(v).map(|q| mesh.position(q)).collect();
-    let centre = ring.iter().sum::<Vec3>() / ring.len() as f64;
-    let radius = ring.iter().map(|q| (q - centre).norm()).sum::<f64>() / ring.len() as f64;
+    // Two passes over the neighbours: this runs at every vertex, without an allocation.
+    let count = topo.degree(v) as f64;
+    let centre = topo.neighbors(v).map(|q| mesh.position(q)).sum::<Vec3>() / count;
+    let radius = topo
+        .neighbors(v)
+        .map(|q| (mesh.position(q) - centre).norm())
+        .sum::<f64>()
+        / count;
     if radius.is_nan() || radius <= 0.0 {
         return None;
     }
