@@ -7,6 +7,7 @@ use crestline::curvature::{
     select_estimator,
 };
 use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
+use crestline::mesh::repair_outliers;
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -29,7 +30,9 @@ use crate::mesh::{mesh_from_arrays, per_given_vertex};
 /// directions (default 0.5; 0 is the paper's operator); `creases`, the sharp creases the jet
 /// fit does not reach across (each side gets its own fit): "auto" (default: the edges above
 /// the gap in the histogram of dihedral angles, none on scans), "off", or a dihedral angle
-/// in degrees; `keep_orientation` and `no_weld`, as for `extract`. An option of another
+/// in degrees; `keep_outliers`, `keep_orientation` and `no_weld`, as for `extract` (isolated
+/// outlier vertices are put back on their neighbours' surface before the estimation unless
+/// `keep_outliers`; the fields are those of the surface so repaired). An option of another
 /// estimator than the one that runs is a `ValueError`, as on the command line.
 ///
 /// Returns a dict of numpy arrays indexed like the vertices: "k_max", "k_min", "e_max",
@@ -40,7 +43,7 @@ use crate::mesh::{mesh_from_arrays, per_given_vertex};
 #[pyo3(signature = (
     vertices, faces, estimator = None, *, rings = None, radius = None, degree = None,
     no_noise_adaptation = false, direction_support = None, creases = None,
-    keep_orientation = false, no_weld = false,
+    keep_outliers = false, keep_orientation = false, no_weld = false,
 ))]
 pub fn curvature<'py>(
     py: Python<'py>,
@@ -53,6 +56,7 @@ pub fn curvature<'py>(
     no_noise_adaptation: bool,
     direction_support: Option<f64>,
     creases: Option<&Bound<'py, PyAny>>,
+    keep_outliers: bool,
     keep_orientation: bool,
     no_weld: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -91,8 +95,14 @@ pub fn curvature<'py>(
     let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
     let c = py
         .detach(|| {
-            let creases = find_creases(&mesh, &CreaseOptions::DEFAULT.with_angle(angle))?;
-            estimate_split(&mesh, &options, creases.barriers(&mesh).as_deref())
+            let repaired = if keep_outliers {
+                None
+            } else {
+                repair_outliers(&mesh)?.0
+            };
+            let mesh = repaired.as_ref().unwrap_or(&mesh);
+            let creases = find_creases(mesh, &CreaseOptions::DEFAULT.with_angle(angle))?;
+            estimate_split(mesh, &options, creases.barriers(mesh).as_deref())
         })
         .map_err(to_py_err)?;
     let fields = PyDict::new(py);

@@ -513,8 +513,9 @@ def test_extract_drops_the_lines_the_noise_moves_about_unless_told_to_keep_them(
     assert len(kept) > len(default)
 
 
-def test_extract_puts_spikes_back_unless_told_to_keep_them():
-    # The public clean ellipsoid with two vertices three mean edges off it, one out, one in.
+def spiky_ellipsoid():
+    """The public clean ellipsoid's vertices, the same with two of them three mean edges off
+    the surface (one out, one in), and its faces."""
     vertices, faces = crestline.read_mesh(case_path("ovoid/reg20k"))
     normals = np.zeros_like(vertices)
     corners = vertices[faces]
@@ -526,6 +527,11 @@ def test_extract_puts_spikes_back_unless_told_to_keep_them():
     spiky = vertices.copy()
     spiky[100] += 3 * edge * normals[100]
     spiky[2000] -= 3 * edge * normals[2000]
+    return vertices, spiky, faces
+
+
+def test_extract_puts_spikes_back_unless_told_to_keep_them():
+    vertices, spiky, faces = spiky_ellipsoid()
     clean = crestline.extract(vertices, faces)
     assert clean.stats["outliers_moved"] == 0
     repaired = crestline.extract(spiky, faces)
@@ -535,6 +541,20 @@ def test_extract_puts_spikes_back_unless_told_to_keep_them():
     kept = crestline.extract(spiky, faces, keep_outliers=True)
     assert kept.stats["outliers_moved"] == 0
     assert kept.stats["creases"] > 0
+
+
+def test_curvature_puts_spikes_back_unless_told_to_keep_them():
+    # The spikes of `spiky_ellipsoid`: the fields are those of the repaired surface, close to the
+    # clean mesh's everywhere; kept, every fit whose disc holds a spike is thrown off.
+    vertices, spiky, faces = spiky_ellipsoid()
+    clean = crestline.curvature(vertices, faces)
+    scale = np.abs(clean["k_max"]).max()
+
+    def worst(fields):
+        return max(np.abs(fields[k] - clean[k]).max() for k in ("k_max", "k_min")) / scale
+
+    assert worst(crestline.curvature(spiky, faces)) < 0.005
+    assert worst(crestline.curvature(spiky, faces, keep_outliers=True)) > 0.15
 
 
 def test_extract_takes_the_jet_fit_and_crease_options(fandisk):

@@ -12,8 +12,10 @@ use crestline::curvature::{
 };
 use crestline::io::{PlyWriter, VertexProperty};
 use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
+use crestline::mesh::repair_outliers;
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
+use super::extract::outliers_note;
 use crate::input::{OrientedMeshArgs, is_dash};
 use crate::output::{
     PlyEncodingArg, check_extension, check_output, display, known_extension, to_path_or_stdout,
@@ -177,6 +179,12 @@ pub struct Args {
     /// Also write the mesh saliency (`saliency`) and `curv` (Mao et al.).
     #[arg(long)]
     pub saliency: bool,
+    /// Take every vertex as it is. By default isolated outlier vertices (spikes), which
+    /// throw off every fit whose disc holds them, are put back on the surface of their
+    /// neighbours before the estimation, as in `extract`; the file's positions are written
+    /// as given, with the fields of the surface so repaired
+    #[arg(long)]
+    pub keep_outliers: bool,
     #[command(flatten)]
     pub ply: PlyEncodingArg,
 }
@@ -205,7 +213,14 @@ pub fn run(args: Args) -> Result<()> {
     check_output(&args.output, &[args.input.path()])?;
     let csv = writes_csv(&args)?;
     let (prepared, name) = args.input.load_prepared()?;
-    let mesh = &prepared.mesh;
+    let mut mesh = &prepared.mesh;
+    let repaired;
+    if !args.keep_outliers {
+        let outliers;
+        (repaired, outliers) = repair_outliers(mesh)?;
+        mesh = repaired.as_ref().unwrap_or(mesh);
+        outliers_note(&name, &outliers);
+    }
     // The papers' estimators read one star or ring and do not split at creases.
     let angle = match estimator {
         Estimator::JetFit => args.creases.unwrap_or_default(),

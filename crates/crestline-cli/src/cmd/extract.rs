@@ -16,6 +16,7 @@ use crestline::io::PlyEncoding;
 use crestline::io::lines::{LinesFormat, write_lines, write_lines_to};
 use crestline::lines::FeatureLines;
 use crestline::lines::crease::CreaseAngle;
+use crestline::mesh::OutlierRepair;
 use crestline::render::{self, PictureFormat, RenderOptions};
 use crestline::smoothing::extremality::MaskRegion;
 use crestline::smoothing::surface::SurfaceSmoothing;
@@ -332,6 +333,22 @@ pub fn describe_counts(s: &ExtractStats) -> String {
     text
 }
 
+/// The summary line of the outliers put back before the estimation (none when none moved);
+/// `extract` and `curvature` alike.
+pub fn outliers_note(name: &str, outliers: &OutlierRepair) {
+    if !outliers.vertices.is_empty() {
+        note!(
+            "{name}: {} (spikes off the surface of their neighbours) put back on it first; \
+             --keep-outliers keeps them",
+            counted(
+                outliers.vertices.len(),
+                "outlier vertex",
+                "outlier vertices"
+            )
+        );
+    }
+}
+
 /// `x` with six significant digits (`80.7701`, `0.000123457`; a length of a mesh modelled in
 /// metres at the scale of microns is not `0.0000`), in scientific notation beyond 1e-4 and
 /// 1e9.
@@ -374,17 +391,7 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
             j.noise
         );
     }
-    if !s.outliers.vertices.is_empty() {
-        eprintln!(
-            "{name}: {} (spikes off the surface of their neighbours) put back on it first; \
-             --keep-outliers keeps them",
-            counted(
-                s.outliers.vertices.len(),
-                "outlier vertex",
-                "outlier vertices"
-            )
-        );
-    }
+    outliers_note(name, &s.outliers);
     if s.creases > 0 {
         eprintln!(
             "sharp creases: dihedral angle > {:.1} degrees{}, length {}",

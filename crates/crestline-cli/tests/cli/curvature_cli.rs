@@ -242,3 +242,52 @@ fn curvature_does_not_reach_across_creases() {
         "largest |k| on the rims without the split: {worst}"
     );
 }
+
+#[test]
+fn curvature_puts_spikes_back_before_estimating() {
+    // A unit sphere with two vertices three edges off it: as in `extract`, they are put back
+    // before the fits (said on stderr), so every vertex gets the sphere's k = 1, the spikes
+    // themselves included, at the file's positions. With --keep-outliers every fit whose
+    // disc holds a spike is thrown off.
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = crestline::shapes::icosphere(1.0, 4);
+    let normals = crestline::mesh::vertex_normals_area(&sphere);
+    let edge = crestline::mesh::mean_edge_length(&sphere);
+    let mut positions = sphere.positions().to_vec();
+    let spikes = [100, 1500];
+    for v in spikes {
+        positions[v] += normals[v] * 3.0 * edge;
+    }
+    let mesh = dir.path().join("spiky.obj");
+    let spiky = sphere.with_positions(positions.clone()).unwrap();
+    let options = crestline::io::WriteOptions::default();
+    crestline::io::write_mesh(&mesh, &spiky, crestline::io::Format::Obj, &options).unwrap();
+    let csv = dir.path().join("fields.csv");
+    let said = crate::common::stderr(&crestline_ok([
+        "curvature".as_ref(),
+        mesh.as_os_str(),
+        "-o".as_ref(),
+        csv.as_os_str(),
+    ]));
+    assert!(said.contains("2 outlier vertices"), "{said}");
+    let worst = |rows: &[Vec<f64>], header: &[String]| {
+        let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+        let (k_max, k_min) = (col("k_max"), col("k_min"));
+        rows.iter()
+            .map(|r| (r[k_max] - 1.0).abs().max((r[k_min] - 1.0).abs()))
+            .fold(0.0, f64::max)
+    };
+    let (header, repaired) = curvature_csv(&mesh, &[]);
+    assert!(
+        worst(&repaired, &header) < 0.05,
+        "{}",
+        worst(&repaired, &header)
+    );
+    // The rows are the file's vertices, where they are.
+    for v in spikes {
+        let p = positions[v];
+        assert!((repaired[v][0] - p.x).abs() < 1e-6 && (repaired[v][2] - p.z).abs() < 1e-6);
+    }
+    let (header, kept) = curvature_csv(&mesh, &["--keep-outliers"]);
+    assert!(worst(&kept, &header) > 0.5, "{}", worst(&kept, &header));
+}

@@ -194,6 +194,7 @@ def curvature(
     no_noise_adaptation: bool = False,
     direction_support: Optional[float] = None,
     creases: Optional[Creases] = None,
+    keep_outliers: bool = False,
     keep_orientation: bool = False,
     no_weld: bool = False,
 ) -> dict[str, npt.NDArray[np.float64]]:
@@ -206,7 +207,9 @@ def curvature(
     fit when rings is given), rings 1, radius 2.5, degree 4, direction_support 0.5 (shape
     operator), creases "auto" (the jet fit does not reach across the sharp creases found above
     the gap in the histogram of dihedral angles, or between filtered normals on a noisy mesh;
-    "off", or an angle in degrees). An option of
+    "off", or an angle in degrees). Isolated outlier vertices (spikes) are put back on their
+    neighbours' surface before the estimation unless keep_outliers, as in ``extract``: the fields
+    are those of the surface so repaired. An option of
     another estimator than the one that runs raises ValueError, as does a negative rings or degree.
     """
 
