@@ -425,7 +425,7 @@ pub fn extract_with_progress(
     if debias && let Some(report) = curvature.jet_fit {
         let t = clock.begin(Stage::Debiasing);
         let radius = report.radius * report.spacing;
-        stats.debias = debias_crest_lines(surface, &curvature, &mut lines, radius);
+        stats.debias = debias_crest_lines(surface, &curvature, &mut lines, radius, split);
         clock.end(Stage::Debiasing, t);
     }
 

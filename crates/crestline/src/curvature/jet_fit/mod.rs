@@ -399,7 +399,10 @@ pub fn jet_fit_split(
     };
     let (mut curvature, mut simulated, alternative, triangle_sampled) = context.run(radius);
     curvature.alternative_extremalities = alternative;
-    curvature.one_sided = one_sided_vertices(mesh, radius * spacing);
+    // The boundary's one-sided discs only: with the creases' too, the noise level and the
+    // located filter, which read these flags, lost lines on noisy parts (BENCHMARKS.md,
+    // "Lines beside creases left where the fit put them").
+    curvature.one_sided = one_sided_vertices(mesh, radius * spacing, None);
     if noise > REFERENCE_NOISE {
         for x in simulated.iter_mut().flatten() {
             *x *= probe.sigma;
@@ -495,15 +498,26 @@ pub fn sample_spacing(mesh: &TriMesh) -> f64 {
     (2.0 * area / (3f64.sqrt() * used as f64)).sqrt()
 }
 
-/// Per vertex, whether a disc of `radius` (model units) around it reaches a boundary vertex
-/// of the mesh: its fit is one-sided, with another bias and more noise than a full disc's.
-/// Empty when the mesh has no boundary (no vertex is).
-pub fn one_sided_vertices(mesh: &TriMesh, radius: f64) -> Vec<bool> {
+/// Where discs stop: the positions of the mesh's boundary vertices and of the vertices of the
+/// `barriers` (per edge of [`crate::mesh::Topology::edges`]: the creases and non-manifold
+/// edges the fit does not reach across, [`jet_fit_split`]).
+pub fn disc_rims(mesh: &TriMesh, barriers: Option<&[bool]>) -> Vec<Vec3> {
     let topo = mesh.topology();
-    let boundary: Vec<Vec3> = (0..mesh.num_vertices() as u32)
-        .filter(|&v| topo.is_boundary_vertex(v))
+    let on_barrier = barriers.map_or_else(Vec::new, |edges| topo.vertices_of_edges(edges));
+    (0..mesh.num_vertices() as u32)
+        .filter(|&v| topo.is_boundary_vertex(v) || on_barrier.get(v as usize) == Some(&true))
         .map(|v| mesh.position(v))
-        .collect();
+        .collect()
+}
+
+/// Per vertex, whether a disc of `radius` (model units) around it reaches a boundary vertex
+/// of the mesh or a vertex of the `barriers` ([`disc_rims`]): its fit is one-sided, with
+/// another bias and more noise than a full disc's (beside a crease the fit stops at the
+/// crease as it does at a boundary: on a noisy part's flat face the spread of e_min grew
+/// fifteenfold towards a crease, the rounded box of `bench/quality/noisy_parts.py` under
+/// noise of 0.05 spacings). Empty when the mesh has neither (no vertex is).
+pub fn one_sided_vertices(mesh: &TriMesh, radius: f64, barriers: Option<&[bool]>) -> Vec<bool> {
+    let boundary = disc_rims(mesh, barriers);
     if boundary.is_empty() || !(radius.is_finite() && radius > 0.0) {
         return Vec::new();
     }
