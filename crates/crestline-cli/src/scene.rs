@@ -6,12 +6,14 @@ use std::path::{Path, PathBuf};
 use anyhow::{Result, bail};
 use clap::ValueEnum;
 use crestline::TriMesh;
-use crestline::curvature::{CurvatureOptions, estimate};
+use crestline::curvature::CurvatureOptions;
 use crestline::distance::{DistanceOptions, feature_distance};
 use crestline::lines::FeatureLines;
+use crestline::lines::crease::CreaseAngle;
 use crestline::render::{ColorMapChoice, FieldRange, RenderOptions, UpAxis, guess_up_axis};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
+use crate::cmd::curvature::estimate_fields;
 use crate::input::{MeshArgs, PrepareArgs, prepare_mesh, read_lines};
 use crate::progress::{self, note};
 
@@ -124,9 +126,14 @@ pub struct SceneArgs {
     /// by the extension.
     #[arg(long, value_name = "LINES.{obj,ply,json}")]
     pub lines: Option<PathBuf>,
-    /// Colour the mesh by this per-vertex field.
+    /// Colour the mesh by this per-vertex field. The curvature fields and the saliency are
+    /// those `crestline curvature` writes with its defaults (outlier vertices put back first,
+    /// the fit split at sharp creases).
     #[arg(long, value_enum)]
     pub field: Option<FieldArg>,
+    /// For --field: take every vertex as it is (`crestline curvature --keep-outliers`).
+    #[arg(long)]
+    pub keep_outliers: bool,
     /// Camera azimuth and elevation in degrees [default: 30,20].
     #[arg(long, value_name = "AZ,EL", value_parser = parse_view, allow_hyphen_values = true)]
     pub view: Option<(f64, f64)>,
@@ -177,9 +184,15 @@ impl SceneArgs {
             None => None,
         };
         let field = match self.field {
-            Some(f) => Some(progress::step(format!("field {}", f.name()), || {
-                compute_field(&mesh, lines.as_ref(), f)
-            })?),
+            Some(f) => {
+                let (values, notes) = progress::step(format!("field {}", f.name()), || {
+                    compute_field(&mesh, &name, lines.as_ref(), f, self.keep_outliers)
+                })?;
+                for line in notes {
+                    note!("{line}");
+                }
+                Some(values)
+            }
             None => None,
         };
         Ok(Scene { mesh, lines, field })
@@ -212,20 +225,31 @@ impl SceneArgs {
     }
 }
 
-/// Computes the per-vertex field `field` on `mesh` with the library's default options.
+/// Computes the per-vertex field `field` on `mesh` (named `name` in messages) as `crestline
+/// curvature` does with its defaults ([`estimate_fields`]); with the notes of that estimation.
 fn compute_field(
     mesh: &TriMesh,
+    name: &str,
     lines: Option<&FeatureLines>,
     field: FieldArg,
-) -> Result<Vec<f64>> {
-    let curvature = || estimate(mesh, &CurvatureOptions::default());
-    Ok(match field {
-        FieldArg::KMax => curvature()?.k_max,
-        FieldArg::KMin => curvature()?.k_min,
-        FieldArg::EMax => curvature()?.e_max,
-        FieldArg::EMin => curvature()?.e_min,
+    keep_outliers: bool,
+) -> Result<(Vec<f64>, Vec<String>)> {
+    let mut notes = Vec::new();
+    let mut fields = || {
+        let options = CurvatureOptions::default();
+        let fields = estimate_fields(mesh, &options, CreaseAngle::default(), keep_outliers)?;
+        notes = fields.notes(name);
+        anyhow::Ok(fields)
+    };
+    let values = match field {
+        FieldArg::KMax => fields()?.curvature.k_max,
+        FieldArg::KMin => fields()?.curvature.k_min,
+        FieldArg::EMax => fields()?.curvature.e_max,
+        FieldArg::EMin => fields()?.curvature.e_min,
         FieldArg::Saliency => {
-            mesh_saliency(mesh, &curvature()?, &SaliencyOptions::default())?.saliency
+            let fields = fields()?;
+            let surface = fields.repaired.as_ref().unwrap_or(mesh);
+            mesh_saliency(surface, &fields.curvature, &SaliencyOptions::default())?.saliency
         }
         FieldArg::FeatureDistance => {
             let Some(lines) = lines else {
@@ -233,7 +257,8 @@ fn compute_field(
             };
             feature_distance(mesh, lines, &DistanceOptions::default())?.vertex
         }
-    })
+    };
+    Ok((values, notes))
 }
 
 /// Parses `P%`, `full` or `MIN,MAX` (see `--field-range`).

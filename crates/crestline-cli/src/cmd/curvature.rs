@@ -6,13 +6,14 @@ use std::path::PathBuf;
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
+use crestline::TriMesh;
 use crestline::curvature::{
     Curvature, CurvatureOptions, Estimator, EstimatorOption, EstimatorSelection, estimate_split,
     select_estimator,
 };
 use crestline::io::{PlyWriter, VertexProperty};
 use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
-use crestline::mesh::repair_outliers;
+use crestline::mesh::{OutlierRepair, repair_outliers};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
 use super::extract::outliers_note;
@@ -182,7 +183,7 @@ pub struct Args {
     /// Take every vertex as it is. By default isolated outlier vertices (spikes), which
     /// throw off every fit whose disc holds them, are put back on the surface of their
     /// neighbours before the estimation, as in `extract`; the file's positions are written
-    /// as given, with the fields of the surface so repaired
+    /// as given, with the fields of the surface so repaired.
     #[arg(long)]
     pub keep_outliers: bool,
     #[command(flatten)]
@@ -206,6 +207,68 @@ fn columns(c: &Curvature) -> Vec<(&'static str, Vec<f64>)> {
     ]
 }
 
+/// The fields of a mesh as `crestline curvature` estimates them ([`estimate_fields`]).
+pub struct Fields {
+    /// The estimate.
+    pub curvature: Curvature,
+    /// The mesh with its outlier vertices put back, when any moved: the surface estimated.
+    pub repaired: Option<TriMesh>,
+    /// The outlier vertices moved.
+    pub outliers: OutlierRepair,
+    /// The crease edges the jet fit was split at, and the crease curves they make.
+    pub creases: [usize; 2],
+}
+
+impl Fields {
+    /// What was done to the mesh (named `name`) before the estimation, a line each, for
+    /// stderr.
+    pub fn notes(&self, name: &str) -> Vec<String> {
+        let [edges, curves] = self.creases;
+        let creases = (edges > 0).then(|| {
+            format!(
+                "{name}: estimation split at {edges} crease edges ({curves} curves; --creases \
+                 off to estimate across them)"
+            )
+        });
+        [outliers_note(name, &self.outliers), creases]
+            .into_iter()
+            .flatten()
+            .collect()
+    }
+}
+
+/// Estimates the fields of `mesh` with `options` as `crestline curvature` does: isolated
+/// outlier vertices put back on their neighbours' surface first unless `keep_outliers` (as in
+/// `extract`), and the jet fit split at the sharp creases found with `angle` (the papers'
+/// estimators read one star or ring and do not split at creases).
+pub fn estimate_fields(
+    mesh: &TriMesh,
+    options: &CurvatureOptions,
+    angle: CreaseAngle,
+    keep_outliers: bool,
+) -> Result<Fields> {
+    let (repaired, outliers) = if keep_outliers {
+        (None, OutlierRepair::default())
+    } else {
+        repair_outliers(mesh)?
+    };
+    let surface = repaired.as_ref().unwrap_or(mesh);
+    let angle = match options.estimator {
+        Estimator::JetFit => angle,
+        _ => CreaseAngle::Off,
+    };
+    let creases = find_creases(surface, &CreaseOptions::DEFAULT.with_angle(angle))?;
+    let barriers = creases.barriers(surface);
+    let curvature = estimate_split(surface, options, barriers.as_deref())?;
+    let crease_edges = creases.edges.iter().filter(|&&c| c).count();
+    Ok(Fields {
+        curvature,
+        creases: [crease_edges, creases.curves.len()],
+        repaired,
+        outliers,
+    })
+}
+
 /// Runs the subcommand.
 pub fn run(args: Args) -> Result<()> {
     let options = curvature_options(&args)?;
@@ -213,39 +276,28 @@ pub fn run(args: Args) -> Result<()> {
     check_output(&args.output, &[args.input.path()])?;
     let csv = writes_csv(&args)?;
     let (prepared, name) = args.input.load_prepared()?;
-    let mut mesh = &prepared.mesh;
-    let repaired;
-    if !args.keep_outliers {
-        let outliers;
-        (repaired, outliers) = repair_outliers(mesh)?;
-        mesh = repaired.as_ref().unwrap_or(mesh);
-        outliers_note(&name, &outliers);
-    }
-    // The papers' estimators read one star or ring and do not split at creases.
-    let angle = match estimator {
-        Estimator::JetFit => args.creases.unwrap_or_default(),
-        _ => CreaseAngle::Off,
-    };
-    let creases = find_creases(mesh, &CreaseOptions::DEFAULT.with_angle(angle))?;
-    if !creases.is_empty() {
-        let edges = creases.edges.iter().filter(|&&c| c).count();
-        note!(
-            "{name}: estimation split at {edges} crease edges ({} curves; --creases off to \
-             estimate across them)",
-            creases.curves.len()
-        );
-    }
-    let barriers = creases.barriers(mesh);
-    let split = barriers.as_deref();
-    let spinner = progress::spinner(format!("curvature of {} vertices", mesh.num_vertices()));
-    let curvature = estimate_split(mesh, &options, split)?;
-    let mut cols = columns(&curvature);
+    let spinner = progress::spinner(format!(
+        "curvature of {} vertices",
+        prepared.mesh.num_vertices()
+    ));
+    let fields = estimate_fields(
+        &prepared.mesh,
+        &options,
+        args.creases.unwrap_or_default(),
+        args.keep_outliers,
+    )?;
+    let mesh = fields.repaired.as_ref().unwrap_or(&prepared.mesh);
+    let curvature = &fields.curvature;
+    let mut cols = columns(curvature);
     if args.saliency {
-        let s = mesh_saliency(mesh, &curvature, &SaliencyOptions::default())?;
+        let s = mesh_saliency(mesh, curvature, &SaliencyOptions::default())?;
         cols.push(("curv", s.curv));
         cols.push(("saliency", s.saliency));
     }
     spinner.finish_and_clear();
+    for line in fields.notes(&name) {
+        note!("{line}");
+    }
     // One row per vertex of the file: each copy of a welded vertex gets its values.
     let cols = cols
         .into_iter()

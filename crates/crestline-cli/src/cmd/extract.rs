@@ -334,10 +334,10 @@ pub fn describe_counts(s: &ExtractStats) -> String {
 }
 
 /// The summary line of the outliers put back before the estimation (none when none moved);
-/// `extract` and `curvature` alike.
-pub fn outliers_note(name: &str, outliers: &OutlierRepair) {
-    if !outliers.vertices.is_empty() {
-        note!(
+/// `extract`, `curvature` and the fields of `render` and `view` alike.
+pub fn outliers_note(name: &str, outliers: &OutlierRepair) -> Option<String> {
+    (!outliers.vertices.is_empty()).then(|| {
+        format!(
             "{name}: {} (spikes off the surface of their neighbours) put back on it first; \
              --keep-outliers keeps them",
             counted(
@@ -345,8 +345,8 @@ pub fn outliers_note(name: &str, outliers: &OutlierRepair) {
                 "outlier vertex",
                 "outlier vertices"
             )
-        );
-    }
+        )
+    })
 }
 
 /// `x` with six significant digits (`80.7701`, `0.000123457`; a length of a mesh modelled in
@@ -391,7 +391,9 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
             j.noise
         );
     }
-    outliers_note(name, &s.outliers);
+    if let Some(line) = outliers_note(name, &s.outliers) {
+        eprintln!("{line}");
+    }
     if s.creases > 0 {
         eprintln!(
             "sharp creases: dihedral angle > {:.1} degrees{}, length {}",

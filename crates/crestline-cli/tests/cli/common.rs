@@ -57,3 +57,22 @@ pub fn fails(out: Output) -> String {
 pub fn s(p: &Path) -> &str {
     p.to_str().expect("a UTF-8 path")
 }
+
+/// Writes to `path` (OBJ) a unit icosphere of `levels` subdivisions with the vertices
+/// `spikes` moved three mean edges out along their normals; returns its positions.
+pub fn write_spiky_sphere(path: &Path, levels: u32, spikes: &[usize]) -> Vec<crestline::Vec3> {
+    let sphere = crestline::shapes::icosphere(1.0, levels);
+    let normals = crestline::mesh::vertex_normals_area(&sphere);
+    let edge = crestline::mesh::mean_edge_length(&sphere);
+    let mut positions = sphere.positions().to_vec();
+    for &v in spikes {
+        positions[v] += normals[v] * 3.0 * edge;
+    }
+    let spiky = sphere
+        .with_positions(positions.clone())
+        .expect("finite positions");
+    let options = crestline::io::WriteOptions::default();
+    crestline::io::write_mesh(path, &spiky, crestline::io::Format::Obj, &options)
+        .expect("the spiky sphere written");
+    positions
+}

@@ -757,16 +757,8 @@ fn spikes_are_put_back_and_the_summary_says_so() {
     // A sphere with two vertices three edges off it: put back before anything runs, said in
     // the summary, the text and the JSON stats; --keep-outliers leaves them, ringed by creases.
     let dir = tempfile::tempdir().unwrap();
-    let sphere = crestline::shapes::icosphere(1.0, 4);
-    let normals = crestline::mesh::vertex_normals_area(&sphere);
-    let edge = crestline::mesh::mean_edge_length(&sphere);
-    let mut positions = sphere.positions().to_vec();
-    for v in [100, 1500] {
-        positions[v] += normals[v] * 3.0 * edge;
-    }
-    let spiky = sphere.with_positions(positions).unwrap();
     let path = dir.path().join("spiky.obj");
-    write_mesh(&path, &spiky, Format::Obj, &WriteOptions::default()).unwrap();
+    crate::common::write_spiky_sphere(&path, 4, &[100, 1500]);
     let out = dir.path().join("lines.obj");
     let summary = stderr(&ok(run(&["extract", s(&path), "-o", s(&out), "--stats"])));
     assert!(summary.contains("2 outlier vertices"), "{summary}");

@@ -116,3 +116,22 @@ fn the_up_axis_is_guessed_from_the_mesh_and_said() {
     ]));
     assert!(stderr(&out).contains("up axis: z"), "{}", stderr(&out));
 }
+
+#[test]
+fn render_fields_put_spikes_back_as_curvature_does() {
+    // A unit sphere with a vertex three edges off it: the field of `render` is the one
+    // `crestline curvature` writes (the spike put back first, said on stderr) unless
+    // --keep-outliers.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("spiky.obj");
+    crate::common::write_spiky_sphere(&path, 3, &[100]);
+    let base = ["render", s(&path), "--size", "160", "--field", "k_max"];
+    let (_, said) = picture(dir.path(), "k.png", &base);
+    assert!(said.contains("1 outlier vertex"), "{said}");
+    let (_, kept) = picture(
+        dir.path(),
+        "kept.png",
+        &[&base[..], &["--keep-outliers"]].concat(),
+    );
+    assert!(!kept.contains("outlier"), "{kept}");
+}

@@ -256,17 +256,19 @@ fn debias_leaves_the_lines_beside_creases_alone() {
         let report = with.stats.jet_fit.unwrap();
         let radius = report.radius * report.spacing;
         let crease_points: Vec<Vec3> =
-            common::weighted_samples(line_segments_of(&with.lines, true), 0.1 * report.spacing)
+            common::weighted_samples(crease_segments(&with.lines), 0.25 * report.spacing)
                 .into_iter()
                 .map(|(p, _)| p)
                 .collect();
+        let near_crease = crestline::spatial::PointGrid::new(&crease_points, radius);
         let undebiased: std::collections::HashSet<[u64; 3]> = crest_points(&without.lines)
             .map(|p| p.map(f64::to_bits))
             .collect();
         let beside: Vec<Vec3> = crest_points(&with.lines)
             .filter(|p| {
-                let p = Vec3::from(*p);
-                crease_points.iter().any(|q| (p - q).norm() < 0.9 * radius)
+                near_crease
+                    .nearest_within(Vec3::from(*p), 0.9 * radius)
+                    .is_some()
             })
             .map(Vec3::from)
             .collect();
@@ -302,12 +304,13 @@ fn crest_points(lines: &FeatureLines) -> impl Iterator<Item = [f64; 3]> + '_ {
         .flat_map(|line| line.points.iter().map(|p| [p.x, p.y, p.z]))
 }
 
-/// The segments of the creases (`crease`) or of the crest lines of `lines`.
-fn line_segments_of(lines: &FeatureLines, crease: bool) -> Vec<[Vec3; 2]> {
+/// The segments of the creases of `lines`.
+fn crease_segments(lines: &FeatureLines) -> Vec<[Vec3; 2]> {
     lines
         .lines
         .iter()
-        .filter(|line| line.crease == crease)
-        .flat_map(|line| line.points.windows(2).map(|w| [w[0], w[1]]))
+        .filter(|line| line.crease)
+        .flat_map(|line| common::polyline_segments(&line.points, line.closed))
+        .map(|(a, b)| [a, b])
         .collect()
 }

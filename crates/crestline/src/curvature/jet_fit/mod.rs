@@ -515,7 +515,7 @@ pub fn disc_rims(mesh: &TriMesh, barriers: Option<&[bool]>) -> Vec<Vec3> {
 /// another bias and more noise than a full disc's (beside a crease the fit stops at the
 /// crease as it does at a boundary: on a noisy part's flat face the spread of e_min grew
 /// fifteenfold towards a crease, the rounded box of `bench/quality/noisy_parts.py` under
-/// noise of 0.05 spacings). Empty when the mesh has neither (no vertex is).
+/// noise of 0.05 of the mean edge). Empty when the mesh has neither (no vertex is).
 pub fn one_sided_vertices(mesh: &TriMesh, radius: f64, barriers: Option<&[bool]>) -> Vec<bool> {
     let boundary = disc_rims(mesh, barriers);
     if boundary.is_empty() || !(radius.is_finite() && radius > 0.0) {
