@@ -16,6 +16,11 @@ truth_lines.npz and .obj, listed in OUTDIR/index.json, so that the public scorer
     python3 ../shared/quality/score.py 'target/release/crestline extract {in} -o {out} -q' \\
         --cases /tmp/mcraw
 
+With --model, also checks the interpolation's error model on each mesh: every vertex has two
+coordinates on the grid and one, its free axis a, at a fraction t of a grid edge, and is off the
+exact crossing along a by -(f_aa / 2 f_a) t (1 - t) h^2 (printed: the correlation of the two, and
+the RMS error; BENCHMARKS.md, "Open: raw marching cubes").
+
 Needs numpy and scikit-image.
 """
 import argparse
@@ -36,12 +41,37 @@ SURFACES = {
 }
 
 
+def check_model(vertices, function, half, h):
+    """Prints how many vertices have two coordinates on the grid, and how well the linear
+    interpolation's error along the free axis matches the exact crossing's distance."""
+    grid = (vertices + half) / h
+    on = np.abs(grid - np.round(grid)) < 1e-6
+    free = np.argmin(on, axis=1)
+    along = np.eye(3)[free]
+    f = lambda p: function(p[:, 0], p[:, 1], p[:, 2])
+    exact, eps = vertices.copy(), 1e-6
+    for _ in range(30):  # Newton along the free axis
+        slope = (f(exact + eps * along) - f(exact - eps * along)) / (2 * eps)
+        exact -= (f(exact) / slope)[:, None] * along
+    error = ((vertices - exact) * along).sum(1)
+    rows = np.arange(len(vertices))
+    t = grid[rows, free] - np.floor(grid[rows, free])
+    eps = 1e-4
+    first = (f(exact + eps * along) - f(exact - eps * along)) / (2 * eps)
+    second = (f(exact + eps * along) - 2 * f(exact) + f(exact - eps * along)) / eps**2
+    model = -second / (2 * first) * t * (1 - t) * h * h
+    print(f"  {np.count_nonzero(on.sum(1) == 2)} of {len(vertices)} vertices with two coordinates "
+          f"on the grid; error RMS {np.sqrt(np.mean(error**2)) / h:.4f} h, correlation with the "
+          f"model {np.corrcoef(error, model)[0, 1]:.4f}, left {np.sqrt(np.mean((error - model)**2)) / h:.4f} h")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("outdir")
     ap.add_argument("--cases", default=str(Path(__file__).resolve().parents[3] / "shared/quality/cases"))
     ap.add_argument("--cells", type=int, default=30)
     ap.add_argument("--only", nargs="*")
+    ap.add_argument("--model", action="store_true")
     args = ap.parse_args()
     out, index_path, index = open_case_set(args.outdir)
     public = json.loads((Path(args.cases) / "index.json").read_text())
@@ -57,6 +87,8 @@ def main():
         entry = index.setdefault(name, dict(public[name], meshes={}))
         entry["meshes"]["mcraw"] = dict(vertices=len(vertices), faces=len(faces))
         print(f"{name}: {len(vertices)} vertices, {len(faces)} faces, grid spacing {h:.4f}")
+        if args.model:
+            check_model(vertices, function, half, h)
     index_path.write_text(json.dumps(index, indent=1))
 
 
