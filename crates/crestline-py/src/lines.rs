@@ -277,6 +277,10 @@ fn stats_dict<'py>(
     let d = PyDict::new(py);
     d.set_item("triangles", s.triangles)?;
     d.set_item("outliers_moved", s.outliers.vertices.len())?;
+    d.set_item(
+        "marching_cubes_grid",
+        s.marching_cubes_grid.map(|grid| grid.spacing.to_vec()),
+    )?;
     d.set_item("singular_max", s.trace.singular_max)?;
     d.set_item("singular_min", s.trace.singular_min)?;
     d.set_item("fallback_vertices", s.fallback_vertices)?;

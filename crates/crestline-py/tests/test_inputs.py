@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import crestline
-from conftest import FANDISK, case_path, tetrahedron
+from conftest import FANDISK, REPO, case_path, tetrahedron
 
 
 def same_lines(a, b):
@@ -555,6 +555,16 @@ def test_curvature_puts_spikes_back_unless_told_to_keep_them():
 
     assert worst(crestline.curvature(spiky, faces)) < 0.005
     assert worst(crestline.curvature(spiky, faces, keep_outliers=True)) > 0.15
+
+
+def test_extract_says_a_raw_marching_cubes_mesh_is_one(fandisk):
+    # A torus as scikit-image's marching cubes leaves it (every vertex on a grid edge).
+    torus = REPO / "crates" / "crestline" / "tests" / "data" / "raw_marching_cubes_torus.obj"
+    vertices, faces = crestline.read_mesh(str(torus))
+    grid = crestline.extract(vertices, faces).stats["marching_cubes_grid"]
+    assert grid is not None and len(grid) == 3
+    assert all(abs(h - 0.0823529) < 1e-6 for h in grid)
+    assert crestline.extract(*fandisk).stats["marching_cubes_grid"] is None
 
 
 def test_extract_takes_the_jet_fit_and_crease_options(fandisk):

@@ -394,6 +394,15 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
     if let Some(line) = outliers_note(name, &s.outliers) {
         eprintln!("{line}");
     }
+    if let Some(grid) = s.marching_cubes_grid {
+        eprintln!(
+            "{name}: warning: every vertex lies on an edge of a grid of spacing {} (marching cubes \
+             output, vertices not moved onto the surface): the terraces of its interpolation are \
+             crest lines of the mesh and may come out as rings of lines; move the vertices onto \
+             the level set first (README, raw marching cubes)",
+            significant(grid.spacing.iter().fold(0.0f64, |m, &h| m.max(h)))
+        );
+    }
     if s.creases > 0 {
         eprintln!(
             "sharp creases: dihedral angle > {:.1} degrees{}, length {}",
@@ -919,6 +928,10 @@ fn stats_text(x: &Extraction, io: &IoTimes) -> String {
     let pct = |n: usize| 100.0 * n as f64 / s.triangles.max(1) as f64;
     let mut out = String::new();
     out += &format!("triangles              {}\n", s.triangles);
+    if let Some(grid) = s.marching_cubes_grid {
+        let [x, y, z] = grid.spacing.map(significant);
+        out += &format!("marching cubes grid    spacing {x} x {y} x {z} (vertices on its edges)\n");
+    }
     if let Some(largest) = s.outliers.distances.iter().copied().reduce(f64::max) {
         out += &format!(
             "outliers               {} moved onto their neighbours' surface (the farthest by {}; --keep-outliers keeps them)\n",
@@ -1036,6 +1049,7 @@ pub fn stats_json(x: &Extraction, mesh: &TriMesh, io: &IoTimes) -> serde_json::V
     serde_json::json!({
         "triangles": s.triangles,
         "outliers_moved": s.outliers.vertices.len(),
+        "marching_cubes_grid": s.marching_cubes_grid.map(|grid| grid.spacing),
         "singular_max": s.trace.singular_max,
         "singular_min": s.trace.singular_min,
         "lines_traced": s.lines_traced,

@@ -787,3 +787,31 @@ fn spikes_are_put_back_and_the_summary_says_so() {
     assert!(!kept.contains("outlier"), "{kept}");
     assert!(kept.contains("sharp creases"), "{kept}");
 }
+
+#[test]
+fn raw_marching_cubes_meshes_are_said_to_be() {
+    // A torus as scikit-image's marching cubes leaves it: `info` and `extract` say that every
+    // vertex lies on a grid edge (its terraces come out as lines); a mesh made otherwise is not.
+    let torus = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../crestline/tests/data/raw_marching_cubes_torus.obj");
+    let info = String::from_utf8(ok(run(&["info", s(&torus)])).stdout).unwrap();
+    assert!(
+        info.contains("marching cubes grid    spacing 0.082353 x 0.082353 x 0.082353"),
+        "{info}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("lines.obj");
+    let summary = stderr(&ok(run(&["extract", s(&torus), "-o", s(&out)])));
+    assert!(
+        summary.contains("warning: every vertex lies on an edge of a grid"),
+        "{summary}"
+    );
+    let args = ["extract", s(&torus), "-o", s(&out), "--stats=json", "-q"];
+    let stats: serde_json::Value = serde_json::from_slice(&ok(run(&args)).stdout).unwrap();
+    let spacing = stats["marching_cubes_grid"][2].as_f64().unwrap();
+    assert!((spacing - 0.0823529).abs() < 1e-6, "{stats}");
+    let fandisk = shared_meshes_dir().join("fandisk.obj");
+    let args = ["extract", s(&fandisk), "-o", s(&out), "--stats=json", "-q"];
+    let stats: serde_json::Value = serde_json::from_slice(&ok(run(&args)).stdout).unwrap();
+    assert!(stats["marching_cubes_grid"].is_null(), "{stats}");
+}

@@ -16,7 +16,7 @@ fn failing_info(name: &str, contents: &[u8]) -> String {
     err
 }
 
-const KEYS: [&str; 16] = [
+const KEYS: [&str; 17] = [
     "vertices",
     "faces",
     "unreferenced_vertices",
@@ -33,6 +33,7 @@ const KEYS: [&str; 16] = [
     "diagonal",
     "model_size",
     "mean_edge_length",
+    "marching_cubes_grid",
 ];
 
 #[test]
@@ -47,6 +48,7 @@ fn info_json_reports_every_key() {
     assert_eq!(report["non_manifold_edges"], 1);
     assert_eq!(report["closed"], false);
     assert_eq!(report["bbox_min"].as_array().unwrap().len(), 3);
+    assert!(report["marching_cubes_grid"].is_null(), "{report}");
 }
 
 #[test]

@@ -137,7 +137,8 @@ use crate::lines::{
     FeatureLines, LineKind, TraceReport, jump_crest_gaps, trace_crest_lines, trace_lines,
 };
 use crate::mesh::{
-    Orientation, OutlierRepair, TriMesh, orientation, repair_outliers, reverse_faces,
+    Lattice, Orientation, OutlierRepair, TriMesh, find_lattice, orientation, repair_outliers,
+    reverse_faces,
 };
 use crate::saliency::{family_thresholds, mesh_saliency};
 use crate::smoothing::extremality::{smooth_extremalities, smooth_extremalities_split};
@@ -201,6 +202,11 @@ pub struct ExtractStats {
     /// The isolated outlier vertices moved back onto their neighbours' surface
     /// ([`ExtractOptions::repair_outliers`]; none when that step did not run).
     pub outliers: OutlierRepair,
+    /// The grid of a mesh left as marching cubes made it, every vertex on a grid edge
+    /// ([`crate::mesh::find_lattice`]): the terraces of its interpolation are crest lines of
+    /// the mesh and come out as lines (`BENCHMARKS.md`, "Open: raw marching cubes"). Said,
+    /// not repaired.
+    pub marching_cubes_grid: Option<Lattice>,
     /// Vertices whose curvature needed a fallback.
     pub fallback_vertices: usize,
     /// The jet fit's sample spacing, radius and measured noise level (`None` with the
@@ -323,6 +329,7 @@ pub fn extract_with_progress(
     mesh.check_coordinate_range()?;
     let mut stats = ExtractStats {
         triangles: mesh.num_faces(),
+        marching_cubes_grid: find_lattice(mesh),
         ..Default::default()
     };
     let oriented = orient_if_inward(mesh, options, &mut stats);

@@ -57,6 +57,9 @@ pub struct MeshInfo {
     pub model_size: f64,
     /// Mean length of the edges.
     pub mean_edge_length: f64,
+    /// The spacing along x, y and z of the grid a marching-cubes mesh left as marching cubes
+    /// made it lies on ([`super::find_lattice`]); `None` for any other mesh.
+    pub marching_cubes_grid: Option<[f64; 3]>,
 }
 
 impl MeshInfo {
@@ -93,6 +96,7 @@ impl MeshInfo {
             diagonal: bbox.diagonal(),
             model_size: mesh.model_size(),
             mean_edge_length: mean_edge_length(mesh),
+            marching_cubes_grid: super::find_lattice(mesh).map(|lattice| lattice.spacing),
         }
     }
 }
@@ -152,6 +156,14 @@ impl std::fmt::Display for MeshInfo {
                 ""
             }
         )?;
-        write!(f, "mean edge length       {:.6}", self.mean_edge_length)
+        writeln!(f, "mean edge length       {:.6}", self.mean_edge_length)?;
+        match self.marching_cubes_grid {
+            None => write!(f, "marching cubes grid    none"),
+            Some([x, y, z]) => write!(
+                f,
+                "marching cubes grid    spacing {x:.6} x {y:.6} x {z:.6} (every vertex on an edge of \
+                 it, as marching cubes leaves them: their terraces come out as crest lines)"
+            ),
+        }
     }
 }

@@ -13,6 +13,7 @@
 
 mod geometry;
 mod info;
+pub mod lattice;
 mod orient;
 pub mod outliers;
 mod sides;
@@ -25,6 +26,7 @@ pub use geometry::{
     tangent_frame, vertex_normals_area, vertex_normals_max,
 };
 pub use info::MeshInfo;
+pub use lattice::{Lattice, find_lattice};
 pub use orient::{Orientation, orient_outward, orientation, reverse_faces, signed_volume};
 pub use outliers::{OutlierRepair, find_outliers, repair_outliers};
 pub(crate) use sides::corner_angle;
