@@ -74,6 +74,26 @@ pub fn run(args: &Args) -> Result<()> {
         })
         .collect();
     bar.finish_and_clear();
+    for o in &outcomes {
+        let grid = o
+            .result
+            .as_ref()
+            .ok()
+            .map(|stats| &stats["marching_cubes_grid"]);
+        if let Some(serde_json::Value::Array(spacing)) = grid {
+            let h: Vec<f64> = spacing
+                .iter()
+                .filter_map(serde_json::Value::as_f64)
+                .collect();
+            if let [x, y, z] = h[..] {
+                let name = o.input.display().to_string();
+                eprintln!(
+                    "{}",
+                    super::extract::marching_cubes_warning(&name, [x, y, z])
+                );
+            }
+        }
+    }
 
     match args.stats {
         Some(StatsFormat::Json) => {

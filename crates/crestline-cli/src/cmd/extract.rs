@@ -299,6 +299,10 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
 
+    // A warning, not a note: the lines there are wrong, `-q` or not.
+    if let Some(grid) = extraction.stats.marching_cubes_grid {
+        eprintln!("{}", marching_cubes_warning(&name, grid.spacing));
+    }
     if !progress::quiet() {
         print_summary(&name, &output, &extraction.stats, &options);
     }
@@ -349,6 +353,18 @@ pub fn outliers_note(name: &str, outliers: &OutlierRepair) -> Option<String> {
     })
 }
 
+/// The warning for a mesh left as marching cubes made it, on a grid of `spacing`
+/// ([`crestline::mesh::find_lattice`]); `extract` and its batches alike.
+pub fn marching_cubes_warning(name: &str, spacing: [f64; 3]) -> String {
+    let [x, y, z] = spacing.map(significant);
+    format!(
+        "{name}: warning: the vertices lie on the edges of a grid of spacing {x} x {y} x {z} \
+         (marching cubes output, not moved onto the surface): the terraces of its interpolation \
+         are crest lines of the mesh and may come out as rings of lines; move the vertices onto \
+         the level set first (README, raw marching cubes)"
+    )
+}
+
 /// `x` with six significant digits (`80.7701`, `0.000123457`; a length of a mesh modelled in
 /// metres at the scale of microns is not `0.0000`), in scientific notation beyond 1e-4 and
 /// 1e9.
@@ -393,15 +409,6 @@ fn print_summary(name: &str, output: &Path, s: &ExtractStats, options: &ExtractO
     }
     if let Some(line) = outliers_note(name, &s.outliers) {
         eprintln!("{line}");
-    }
-    if let Some(grid) = s.marching_cubes_grid {
-        eprintln!(
-            "{name}: warning: every vertex lies on an edge of a grid of spacing {} (marching cubes \
-             output, vertices not moved onto the surface): the terraces of its interpolation are \
-             crest lines of the mesh and may come out as rings of lines; move the vertices onto \
-             the level set first (README, raw marching cubes)",
-            significant(grid.spacing.iter().fold(0.0f64, |m, &h| m.max(h)))
-        );
     }
     if s.creases > 0 {
         eprintln!(

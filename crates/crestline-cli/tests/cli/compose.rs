@@ -801,11 +801,16 @@ fn raw_marching_cubes_meshes_are_said_to_be() {
     );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("lines.obj");
-    let summary = stderr(&ok(run(&["extract", s(&torus), "-o", s(&out)])));
-    assert!(
-        summary.contains("warning: every vertex lies on an edge of a grid"),
-        "{summary}"
-    );
+    // A warning: said with -q too, and for each mesh of a batch.
+    let warning = "warning: the vertices lie on the edges of a grid of spacing 0.0823529";
+    let quiet = stderr(&ok(run(&["extract", s(&torus), "-o", s(&out), "-q"])));
+    assert!(quiet.contains(warning), "{quiet}");
+    let (a, b) = (dir.path().join("a.obj"), dir.path().join("b.obj"));
+    std::fs::copy(&torus, &a).unwrap();
+    std::fs::copy(&torus, &b).unwrap();
+    let batch = dir.path().join("batch");
+    let said = stderr(&ok(run(&["extract", s(&a), s(&b), "-o", s(&batch)])));
+    assert_eq!(said.matches(warning).count(), 2, "{said}");
     let args = ["extract", s(&torus), "-o", s(&out), "--stats=json", "-q"];
     let stats: serde_json::Value = serde_json::from_slice(&ok(run(&args)).stdout).unwrap();
     let spacing = stats["marching_cubes_grid"][2].as_f64().unwrap();
