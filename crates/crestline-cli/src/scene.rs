@@ -8,12 +8,13 @@ use clap::ValueEnum;
 use crestline::TriMesh;
 use crestline::curvature::CurvatureOptions;
 use crestline::distance::{DistanceOptions, feature_distance};
+use crestline::extract::surface_fields;
 use crestline::lines::FeatureLines;
 use crestline::lines::crease::CreaseAngle;
 use crestline::render::{ColorMapChoice, FieldRange, RenderOptions, UpAxis, guess_up_axis};
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
-use crate::cmd::curvature::estimate_fields;
+use crate::cmd::curvature::field_notes;
 use crate::input::{MeshArgs, PrepareArgs, prepare_mesh, read_lines};
 use crate::progress::{self, note};
 
@@ -226,7 +227,7 @@ impl SceneArgs {
 }
 
 /// Computes the per-vertex field `field` on `mesh` (named `name` in messages) as `crestline
-/// curvature` does with its defaults ([`estimate_fields`]); with the notes of that estimation.
+/// curvature` does with its defaults ([`surface_fields`]); with the notes of that estimation.
 fn compute_field(
     mesh: &TriMesh,
     name: &str,
@@ -237,8 +238,8 @@ fn compute_field(
     let mut notes = Vec::new();
     let mut fields = || {
         let options = CurvatureOptions::default();
-        let fields = estimate_fields(mesh, &options, CreaseAngle::default(), keep_outliers)?;
-        notes = fields.notes(name);
+        let fields = surface_fields(mesh, &options, CreaseAngle::default(), !keep_outliers)?;
+        notes = field_notes(name, &fields);
         anyhow::Ok(fields)
     };
     let values = match field {

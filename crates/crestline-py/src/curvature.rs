@@ -3,11 +3,9 @@
 
 use crestline::curvature::cubic_fit::MAX_RINGS;
 use crestline::curvature::{
-    CurvatureOptions, Estimator, EstimatorOption, EstimatorSelection, estimate_split,
-    select_estimator,
+    CurvatureOptions, Estimator, EstimatorOption, EstimatorSelection, select_estimator,
 };
-use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
-use crestline::mesh::repair_outliers;
+use crestline::extract::surface_fields;
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -87,24 +85,13 @@ pub fn curvature<'py>(
         )));
     }
     let options = arguments.apply(defaults);
-    // The papers' estimators read one star or ring and do not split at creases.
-    let angle = match estimator {
-        Estimator::JetFit => creases.unwrap_or_default(),
-        _ => CreaseAngle::Off,
-    };
+    // Split at the creases (the jet fit only: `surface_fields`).
+    let angle = creases.unwrap_or_default();
     let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
     let c = py
-        .detach(|| {
-            let repaired = if keep_outliers {
-                None
-            } else {
-                repair_outliers(&mesh)?.0
-            };
-            let mesh = repaired.as_ref().unwrap_or(&mesh);
-            let creases = find_creases(mesh, &CreaseOptions::DEFAULT.with_angle(angle))?;
-            estimate_split(mesh, &options, creases.barriers(mesh).as_deref())
-        })
-        .map_err(to_py_err)?;
+        .detach(|| surface_fields(&mesh, &options, angle, !keep_outliers))
+        .map_err(to_py_err)?
+        .curvature;
     let fields = PyDict::new(py);
     for (name, values) in [
         ("k_max", c.k_max),

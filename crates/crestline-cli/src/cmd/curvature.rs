@@ -6,14 +6,12 @@ use std::path::PathBuf;
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
-use crestline::TriMesh;
 use crestline::curvature::{
-    Curvature, CurvatureOptions, Estimator, EstimatorOption, EstimatorSelection, estimate_split,
-    select_estimator,
+    Curvature, CurvatureOptions, Estimator, EstimatorOption, EstimatorSelection, select_estimator,
 };
+use crestline::extract::{SurfaceFields, surface_fields};
 use crestline::io::{PlyWriter, VertexProperty};
-use crestline::lines::crease::{CreaseAngle, CreaseOptions, find_creases};
-use crestline::mesh::{OutlierRepair, repair_outliers};
+use crestline::lines::crease::CreaseAngle;
 use crestline::saliency::{SaliencyOptions, mesh_saliency};
 
 use super::extract::outliers_note;
@@ -207,66 +205,21 @@ fn columns(c: &Curvature) -> Vec<(&'static str, Vec<f64>)> {
     ]
 }
 
-/// The fields of a mesh as `crestline curvature` estimates them ([`estimate_fields`]).
-pub struct Fields {
-    /// The estimate.
-    pub curvature: Curvature,
-    /// The mesh with its outlier vertices put back, when any moved: the surface estimated.
-    pub repaired: Option<TriMesh>,
-    /// The outlier vertices moved.
-    pub outliers: OutlierRepair,
-    /// The crease edges the jet fit was split at, and the crease curves they make.
-    pub creases: [usize; 2],
-}
-
-impl Fields {
-    /// What was done to the mesh (named `name`) before the estimation, a line each, for
-    /// stderr.
-    pub fn notes(&self, name: &str) -> Vec<String> {
-        let [edges, curves] = self.creases;
-        let creases = (edges > 0).then(|| {
-            format!(
-                "{name}: estimation split at {edges} crease edges ({curves} curves; --creases \
-                 off to estimate across them)"
-            )
-        });
-        [outliers_note(name, &self.outliers), creases]
-            .into_iter()
-            .flatten()
-            .collect()
-    }
-}
-
-/// Estimates the fields of `mesh` with `options` as `crestline curvature` does: isolated
-/// outlier vertices put back on their neighbours' surface first unless `keep_outliers` (as in
-/// `extract`), and the jet fit split at the sharp creases found with `angle` (the papers'
-/// estimators read one star or ring and do not split at creases).
-pub fn estimate_fields(
-    mesh: &TriMesh,
-    options: &CurvatureOptions,
-    angle: CreaseAngle,
-    keep_outliers: bool,
-) -> Result<Fields> {
-    let (repaired, outliers) = if keep_outliers {
-        (None, OutlierRepair::default())
-    } else {
-        repair_outliers(mesh)?
-    };
-    let surface = repaired.as_ref().unwrap_or(mesh);
-    let angle = match options.estimator {
-        Estimator::JetFit => angle,
-        _ => CreaseAngle::Off,
-    };
-    let creases = find_creases(surface, &CreaseOptions::DEFAULT.with_angle(angle))?;
-    let barriers = creases.barriers(surface);
-    let curvature = estimate_split(surface, options, barriers.as_deref())?;
-    let crease_edges = creases.edges.iter().filter(|&&c| c).count();
-    Ok(Fields {
-        curvature,
-        creases: [crease_edges, creases.curves.len()],
-        repaired,
-        outliers,
-    })
+/// What was done to the mesh (named `name`) before the estimation of `fields`, a line each,
+/// for stderr.
+pub fn field_notes(name: &str, fields: &SurfaceFields) -> Vec<String> {
+    let edges = fields.crease_edges;
+    let creases = (edges > 0).then(|| {
+        format!(
+            "{name}: estimation split at {edges} crease edges ({} curves; --creases off to \
+             estimate across them)",
+            fields.crease_curves
+        )
+    });
+    [outliers_note(name, &fields.outliers), creases]
+        .into_iter()
+        .flatten()
+        .collect()
 }
 
 /// Runs the subcommand.
@@ -280,11 +233,11 @@ pub fn run(args: Args) -> Result<()> {
         "curvature of {} vertices",
         prepared.mesh.num_vertices()
     ));
-    let fields = estimate_fields(
+    let fields = surface_fields(
         &prepared.mesh,
         &options,
         args.creases.unwrap_or_default(),
-        args.keep_outliers,
+        !args.keep_outliers,
     )?;
     let mesh = fields.repaired.as_ref().unwrap_or(&prepared.mesh);
     let curvature = &fields.curvature;
@@ -295,7 +248,7 @@ pub fn run(args: Args) -> Result<()> {
         cols.push(("saliency", s.saliency));
     }
     spinner.finish_and_clear();
-    for line in fields.notes(&name) {
+    for line in field_notes(&name, &fields) {
         note!("{line}");
     }
     // One row per vertex of the file: each copy of a welded vertex gets its values.

@@ -113,11 +113,13 @@
 //! salient parts (a sphere, a torus). Its ridge and valley points may each have a knee of
 //! their own below that of all vertices ([`crate::saliency::family`]).
 
+mod fields;
 mod options;
 
 use std::borrow::Cow;
 use std::time::{Duration, Instant};
 
+pub use fields::{SurfaceFields, surface_fields};
 pub use options::{
     DEFAULT_MIN_LENGTH, ExtractOptions, HPW_DEFAULT_THRESHOLD, HpwOptions, MAX_SMOOTHING_STEPS,
     Method, MwzOptions, Pipeline, WHITE_NOISE_ALONG_LINES, YBS_DEFAULT_SMOOTHING_STEPS,

@@ -19,10 +19,11 @@
 //! [`ON_GRID`] h), at least two axes are each the free one of [`FREE_AXIS_SHARE`] of them, and
 //! no edge is longer than a cell's diagonal (√3 times the largest spacing: marching cubes joins
 //! points on the edges of one cell). A height field sampled on a grid has x and y on a lattice
-//! too, but z free everywhere and no interpolation error; a voxel mesh has all three on it; a CAD part whose
-//! edges run along the axes, exported as fans, has its vertices on the planes of its faces, but
-//! edges as long as its faces. A first look at the coordinates of 4,096 of the vertices ends the
-//! test on meshes whose coordinates do not repeat (nearly all), without sorting them all.
+//! too, but z free everywhere and no interpolation error; a voxel mesh has all three on it; a
+//! CAD part whose edges run along the axes, exported as fans, has its vertices on the planes of
+//! its faces, but edges as long as its faces. A first look at the coordinates of 4,096 of the
+//! vertices ends the test on meshes whose coordinates do not repeat (nearly all), without
+//! copying or sorting them.
 //! Measured in `BENCHMARKS.md`, "Open: raw marching cubes": every raw marching-cubes mesh made
 //! there found, none of 199 others. Not found (a review's port of the test, not measured here):
 //! shapes with large flat faces along the grid's planes (a box, a rounded box), whose faces'
@@ -64,6 +65,24 @@ const SAMPLE: usize = 4096;
 
 /// The marching-cubes grid of `mesh` when its vertices lie on one (module docs), else `None`.
 pub fn find_lattice(mesh: &TriMesh) -> Option<Lattice> {
+    // First look, on the positions as they are: along every axis, a sample's coordinates
+    // repeat on the grid's planes. Nearly every other mesh ends here, before any copy.
+    let all = mesh.positions();
+    if all.len() < 8 {
+        return None;
+    }
+    let stride = all.len().div_ceil(SAMPLE);
+    for a in 0..3 {
+        let mut counts: HashMap<u64, usize> = HashMap::new();
+        for p in all.iter().step_by(stride) {
+            *counts.entry(p[a].to_bits()).or_default() += 1;
+        }
+        let sampled = all.len().div_ceil(stride);
+        let repeated: usize = counts.values().filter(|&&c| c >= 2).sum();
+        if (repeated as f64) < 0.3 * sampled as f64 {
+            return None;
+        }
+    }
     let topology = mesh.topology();
     // The vertices of the triangles (stray unreferenced points are no part of the surface).
     let positions: Vec<Vec3> = (0..mesh.num_vertices() as u32)
@@ -73,19 +92,6 @@ pub fn find_lattice(mesh: &TriMesh) -> Option<Lattice> {
     let n = positions.len();
     if n < 8 {
         return None;
-    }
-    // First look: along every axis, a sample's coordinates repeat on the grid's planes.
-    let stride = n.div_ceil(SAMPLE);
-    for a in 0..3 {
-        let mut counts: HashMap<u64, usize> = HashMap::new();
-        for p in positions.iter().step_by(stride) {
-            *counts.entry(p[a].to_bits()).or_default() += 1;
-        }
-        let sampled = n.div_ceil(stride);
-        let repeated: usize = counts.values().filter(|&&c| c >= 2).sum();
-        if (repeated as f64) < 0.3 * sampled as f64 {
-            return None;
-        }
     }
     let mut spacing = [0.0; 3];
     let mut origin = [0.0; 3];
