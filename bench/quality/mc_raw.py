@@ -16,6 +16,10 @@ truth_lines.npz and .obj, listed in OUTDIR/index.json, so that the public scorer
     python3 ../shared/quality/score.py 'target/release/crestline extract {in} -o {out} -q' \\
         --cases /tmp/mcraw
 
+With --project, writes OUTDIR/NAME/mcproj.obj as well: the same meshes with every vertex moved
+onto the surface (Newton steps along the gradient), as the public `mc` meshes are, but on a grid
+whose planes pass through the surfaces' planes of symmetry (crests through vertices).
+
 With --model, also checks the interpolation's error model on each mesh: every vertex has two
 coordinates on the grid and one, its free axis a, at a fraction t of a grid edge, and is off the
 exact crossing along a by -(f_aa / 2 f_a) t (1 - t) h^2 (printed: the correlation of the two, and
@@ -65,6 +69,16 @@ def check_model(vertices, function, half, h):
           f"model {np.corrcoef(error, model)[0, 1]:.4f}, left {np.sqrt(np.mean((error - model)**2)) / h:.4f} h")
 
 
+def project(vertices, function):
+    """The vertices moved onto the zero set of `function` by Newton steps along its gradient."""
+    f = lambda p: function(p[:, 0], p[:, 1], p[:, 2])
+    p, eps = vertices.astype(np.float64), 1e-6
+    for _ in range(30):
+        gradient = np.stack([(f(p + eps * e) - f(p - eps * e)) / (2 * eps) for e in np.eye(3)], 1)
+        p -= (f(p) / np.maximum((gradient * gradient).sum(1), 1e-300))[:, None] * gradient
+    return p
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("outdir")
@@ -72,6 +86,7 @@ def main():
     ap.add_argument("--cells", type=int, default=30)
     ap.add_argument("--only", nargs="*")
     ap.add_argument("--model", action="store_true")
+    ap.add_argument("--project", action="store_true")
     args = ap.parse_args()
     out, index_path, index = open_case_set(args.outdir)
     public = json.loads((Path(args.cases) / "index.json").read_text())
@@ -86,6 +101,10 @@ def main():
         write_case(out / name, "mcraw", vertices, faces, Path(args.cases) / name)
         entry = index.setdefault(name, dict(public[name], meshes={}))
         entry["meshes"]["mcraw"] = dict(vertices=len(vertices), faces=len(faces))
+        if args.project:
+            on_surface = project(vertices, function)
+            write_case(out / name, "mcproj", on_surface, faces, Path(args.cases) / name)
+            entry["meshes"]["mcproj"] = dict(vertices=len(vertices), faces=len(faces))
         print(f"{name}: {len(vertices)} vertices, {len(faces)} faces, grid spacing {h:.4f}")
         if args.model:
             check_model(vertices, function, half, h)
