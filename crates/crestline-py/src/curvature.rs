@@ -34,7 +34,8 @@ use crate::mesh::{mesh_from_arrays, per_given_vertex};
 /// estimator than the one that runs is a `ValueError`, as on the command line.
 ///
 /// Returns a dict of numpy arrays indexed like the vertices: "k_max", "k_min", "e_max",
-/// "e_min" (n,) and "dir_max", "dir_min", "normals" (n, 3). Signs: a sphere of radius r
+/// "e_min" (n,) and "dir_max", "dir_min", "normals" (n, 3), and "outliers" (n,), true at
+/// the vertices put back (all false with `keep_outliers`). Signs: a sphere of radius r
 /// has k = 1/r with outward normals; `k_max >= k_min`. Raises `TypeError` and `ValueError`
 /// as `extract` does (a negative `rings` or `degree` is a `ValueError`).
 #[pyfunction]
@@ -88,11 +89,19 @@ pub fn curvature<'py>(
     // Split at the creases (the jet fit only: `surface_fields`).
     let angle = creases.unwrap_or_default();
     let (mesh, weld) = mesh_from_arrays(vertices, faces, keep_orientation, no_weld)?;
-    let c = py
+    let estimated = py
         .detach(|| surface_fields(&mesh, &options, angle, !keep_outliers))
-        .map_err(to_py_err)?
-        .curvature;
+        .map_err(to_py_err)?;
+    let mut moved = vec![false; mesh.num_vertices()];
+    for &v in &estimated.outliers.vertices {
+        moved[v as usize] = true;
+    }
+    let c = estimated.curvature;
     let fields = PyDict::new(py);
+    fields.set_item(
+        "outliers",
+        PyArray1::from_vec(py, per_given_vertex(&weld, &moved)?),
+    )?;
     for (name, values) in [
         ("k_max", c.k_max),
         ("k_min", c.k_min),

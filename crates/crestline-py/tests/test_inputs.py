@@ -553,8 +553,14 @@ def test_curvature_puts_spikes_back_unless_told_to_keep_them():
     def worst(fields):
         return max(np.abs(fields[k] - clean[k]).max() for k in ("k_max", "k_min")) / scale
 
-    assert worst(crestline.curvature(spiky, faces)) < 0.005
-    assert worst(crestline.curvature(spiky, faces, keep_outliers=True)) > 0.15
+    repaired = crestline.curvature(spiky, faces)
+    assert worst(repaired) < 0.005
+    assert repaired["outliers"].dtype == bool
+    assert sorted(np.flatnonzero(repaired["outliers"])) == [100, 2000]
+    assert not clean["outliers"].any()
+    kept = crestline.curvature(spiky, faces, keep_outliers=True)
+    assert worst(kept) > 0.15
+    assert not kept["outliers"].any()
 
 
 def test_extract_says_a_raw_marching_cubes_mesh_is_one(fandisk):

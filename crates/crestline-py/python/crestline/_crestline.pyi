@@ -197,7 +197,7 @@ def curvature(
     keep_outliers: bool = False,
     keep_orientation: bool = False,
     no_weld: bool = False,
-) -> dict[str, npt.NDArray[np.float64]]:
+) -> dict[str, npt.NDArray[Any]]:
     """Per-vertex curvature: "k_max", "k_min", "e_max", "e_min" (n,), "dir_max", "dir_min", "normals" (n, 3).
 
     One row per vertex given; vertices at the same position are estimated as one (welded)
@@ -209,7 +209,8 @@ def curvature(
     the gap in the histogram of dihedral angles, or between filtered normals on a noisy mesh;
     "off", or an angle in degrees). Isolated outlier vertices (spikes) are put back on their
     neighbours' surface before the estimation unless keep_outliers, as in ``extract``: the fields
-    are those of the surface so repaired. An option of
+    are those of the surface so repaired, and "outliers" (n,), a bool array, is true at the
+    vertices put back. An option of
     another estimator than the one that runs raises ValueError, as does a negative rings or degree.
     """
 
