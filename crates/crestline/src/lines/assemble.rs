@@ -11,6 +11,19 @@
 //! a crest, see [`measure_line`]), with the cyclideness
 //! `C = sqrt(e_max² + e_min²)` interpolated at each line point as YBS prescribe (on an edge
 //! that is the linear interpolation at the zero crossing, weights `|e(q)|`, `|e(p)|`).
+//!
+//! **Crossings at vertices.** On a crest the line's family has e = 0, so C there is the
+//! other family's |e| (YBS); what the interpolation adds of this family's |e| is the chord
+//! of |e| between the edge's ends, `2ab / (a + b)` for ends at |e| = a and b: the crest's
+//! slope times a length that depends on where the vertices lie, zero when the crest runs
+//! through them. There (a plane of symmetry through vertices, a ridge along a column of a
+//! grid) the crossing is at a vertex through which e passes ([`is_resolved`]) or the line
+//! runs along edges whose ends both are such zeros, and this family's part of C is taken
+//! as the chord's mean over where the crossing may fall along the edge, a third of e's
+//! change along it (for an edge along the crest, of the smaller of its ends' neighbours'
+//! |e| beside it). A Gaussian ridge extruded along a grid (e_min ≡ 0) had T = 93 with its
+//! crest between two columns and 0.08 along one, no line; now 56 along one (the suite's
+//! `a_ridge_along_a_column_of_vertices_is_kept`; `BENCHMARKS.md`, *Crests through vertices*).
 
 use rayon::prelude::*;
 
@@ -169,12 +182,25 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
     if line.locations.len() == n {
         for (i, location) in line.locations.iter().enumerate() {
             let (mut k, mut c, mut c2) = (0.0, 0.0, 0.0);
+            let (mut other, mut other2) = (0.0, 0.0);
             for (v, w) in location_weights(mesh, *location) {
                 let v = v as usize;
                 let (e, e_other) = (family.e[v], family.e_other[v]);
                 k += w * family.k[v];
                 c += w * e.hypot(e_other);
                 c2 += w * (e * e + e_other * e_other);
+                other += w * e_other.abs();
+                other2 += w * e_other * e_other;
+            }
+            if let SurfacePoint::Edge { edge, .. } = *location {
+                // A crossing at a vertex through which e passes, or along an edge between
+                // two: the interpolation at the zero takes none of this family's e, which a
+                // crossing inside the edge has (module docs, *Crossings at vertices*).
+                let [a, b] = mesh.topology().edge(edge);
+                if let Some(across) = crest_at_vertices(mesh, family, a, b, k.abs()) {
+                    let crest = across / 3.0;
+                    (c, c2) = (other.hypot(crest), other2 + crest * crest);
+                }
             }
             k_abs[i] = k.abs();
             if is_resolved(mesh, family, *location, k_abs[i]) {
@@ -217,7 +243,9 @@ pub fn measure_line(mesh: &TriMesh, family: &Family<'_>, line: &mut FeatureLine)
 /// of the public pipe elbow, exported as a CAD program does, is a torus, e ≡ 0: e is a few
 /// 1e-4 or less, of either sign, and the two models put it at −6e-4 and +1.6e-3 at the rows
 /// of its strips, at ±7e-5 with opposite signs between them. Taking the better model at each
-/// vertex traced ridges of T up to 11 along the bend; HPW F1 1.000 → 0.897.)
+/// vertex traced ridges of T up to 11 along the bend; HPW F1 1.000 → 0.897.) An edge that
+/// runs along the crest, both ends zeros of e that it passes through, is measured by their
+/// neighbours' e across it instead (module docs, *Crossings at vertices*).
 pub fn is_resolved(mesh: &TriMesh, family: &Family<'_>, location: SurfacePoint, k: f64) -> bool {
     let anisotropic = |v: u32| {
         let (Some(&k), Some(&other)) = (family.k.get(v as usize), family.k_other.get(v as usize))
@@ -237,12 +265,45 @@ pub fn is_resolved(mesh: &TriMesh, family: &Family<'_>, location: SurfacePoint, 
         }
     };
     let [a, b] = mesh.topology().edge(edge);
+    if !(anisotropic(a) && anisotropic(b)) {
+        return false;
+    }
+    let (change, bound) = change_and_bound(mesh, family, a, b, k);
+    if change >= bound {
+        alternative_crosses(mesh, family, a, b)
+    } else {
+        // An edge along the crest, both ends zeros of e that it passes through.
+        along_crest(mesh, family, a, b).is_some_and(|beside| beside >= bound)
+    }
+}
+
+/// e's change along the edge from `a` to `b`, and [`DEGENERATE_CREST`]'s bound on it for a
+/// crest of curvature `k` (`DEGENERATE_CREST |k|³ |edge|`).
+fn change_and_bound(mesh: &TriMesh, family: &Family<'_>, a: u32, b: u32, k: f64) -> (f64, f64) {
     let change = (family.e[b as usize] * family.relative_sign(a, b) - family.e[a as usize]).abs();
     let length = (mesh.position(b) - mesh.position(a)).norm();
-    anisotropic(a)
-        && anisotropic(b)
-        && change >= DEGENERATE_CREST * k.powi(3) * length
-        && alternative_crosses(mesh, family, a, b)
+    (change, DEGENERATE_CREST * k.abs().powi(3) * length)
+}
+
+/// This family's e across the crest where the line crosses the edge from `a` to `b` at a
+/// vertex through which e passes ([`passes_through`]: e's change along the edge), or runs
+/// along the edge between two such vertices ([`along_crest`], when above the degenerate
+/// bound); `None` for a crossing inside the edge (module docs, *Crossings at vertices*).
+fn crest_at_vertices(mesh: &TriMesh, family: &Family<'_>, a: u32, b: u32, k: f64) -> Option<f64> {
+    let (change, bound) = change_and_bound(mesh, family, a, b, k);
+    if change >= bound {
+        (passes_through(mesh, family, a, change) || passes_through(mesh, family, b, change))
+            .then_some(change)
+    } else {
+        along_crest(mesh, family, a, b).filter(|&beside| beside >= bound)
+    }
+}
+
+/// For an edge whose ends are both zeros of e that it passes through ([`zero_through`]), the
+/// edge runs along the crest: the smaller of its ends' neighbours' |e| beside it.
+fn along_crest(mesh: &TriMesh, family: &Family<'_>, a: u32, b: u32) -> Option<f64> {
+    let beside_a = zero_through(mesh, family, a, f64::INFINITY)?;
+    Some(beside_a.min(zero_through(mesh, family, b, f64::INFINITY)?))
 }
 
 /// Whether the second model's extremality ([`Family::e_alternative`]) crosses zero along the
@@ -288,40 +349,55 @@ fn alternative_crosses(mesh: &TriMesh, family: &Family<'_>, a: u32, b: u32) -> b
 /// torus, vertices of e at 2e-4 lie beside the seam's bias of 0.07 to 0.8, of both signs
 /// but not rising one way (with the signs alone, YBS F1 1.000 → 0.996 there).
 fn passes_through(mesh: &TriMesh, family: &Family<'_>, v: u32, change: f64) -> bool {
-    let (Some(&e), Some(&alternative)) = (
-        family.e.get(v as usize),
-        family.e_alternative.get(v as usize),
-    ) else {
-        return false;
-    };
-    let near_zero = e.abs().max(alternative.abs());
-    if !near_zero.is_finite() || !change.is_finite() || near_zero > AT_VERTEX * change {
-        return false;
+    zero_through(mesh, family, v, AT_VERTEX * change).is_some()
+}
+
+/// Whether e passes through zero at vertex `v`, by its neighbours alone: |e| there is at
+/// most `at_most` in both of the jet fit's models (none without a second model: the cubic
+/// fit's lines on fandisk's flat faces, where k ≈ 0 leaves every crossing above the
+/// degenerate bound, gained strength past the automatic threshold's knee), and the
+/// neighbours clearly to either
+/// side of it along its principal direction (within 60°), where the estimate's e is beyond
+/// `1 / AT_VERTEX` times `v`'s larger value, have it of both signs and rising one way along
+/// that direction. Returns the smaller of the largest |e| of those neighbours on either side.
+fn zero_through(mesh: &TriMesh, family: &Family<'_>, v: u32, at_most: f64) -> Option<f64> {
+    let (e, alternative) = (
+        family.e.get(v as usize)?,
+        family.e_alternative.get(v as usize)?,
+    );
+    let value = e.abs().max(alternative.abs());
+    if !value.is_finite() || at_most.is_nan() || value > at_most {
+        return None;
     }
-    let beside = near_zero / AT_VERTEX;
+    let threshold = value / AT_VERTEX;
     let (p, dir) = (mesh.position(v), family.dirs[v as usize]);
     // Per side of v along its direction (ahead, behind), the neighbours there where e is
-    // well away from zero, positive and negative.
+    // well away from zero, positive and negative, and the largest |e| there.
     let mut counts = [[0usize; 2]; 2];
+    let mut largest = [0.0f64; 2];
     for w in mesh.topology().neighbors(v) {
         let e_w = family.e[w as usize] * family.relative_sign(v, w);
         let offset = mesh.position(w) - p;
         let along = offset.dot(&dir);
-        if e_w.abs() >= beside && along.abs() >= 0.5 * offset.norm() && along != 0.0 {
-            counts[usize::from(along < 0.0)][usize::from(e_w < 0.0)] += 1;
+        if e_w.abs() > threshold && along.abs() >= 0.5 * offset.norm() && along != 0.0 {
+            let side = usize::from(along < 0.0);
+            counts[side][usize::from(e_w < 0.0)] += 1;
+            largest[side] = largest[side].max(e_w.abs());
         }
     }
     let [[ahead_up, ahead_down], [behind_up, behind_down]] = counts;
     // e rises through v (negative behind, positive ahead) or falls, and not both.
     let rises = ahead_up > 0 && behind_down > 0 && ahead_down == 0 && behind_up == 0;
     let falls = ahead_down > 0 && behind_up > 0 && ahead_up == 0 && behind_down == 0;
-    rises || falls
+    (rises || falls).then(|| largest[0].min(largest[1]))
 }
 
 /// [`is_resolved`]'s share for a crossing at a vertex: where both models' e at an end of the
 /// crossed edge is within this share of its change along the edge of zero, and the
 /// neighbours on either side of that vertex along its principal direction have e of both
 /// signs beyond its value over this share, rising one way, the crossing is at that vertex.
+/// An edge both of whose ends are such zeros (by their neighbours alone) runs along the
+/// crest (module docs, *Crossings at vertices*).
 pub const AT_VERTEX: f64 = 1e-2;
 
 /// [`is_resolved`]'s bound: `|de/dt| < DEGENERATE_CREST |k|³` is a degenerate crossing.
