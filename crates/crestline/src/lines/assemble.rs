@@ -353,13 +353,13 @@ fn passes_through(mesh: &TriMesh, family: &Family<'_>, v: u32, change: f64) -> b
 }
 
 /// Whether e passes through zero at vertex `v`, by its neighbours alone: |e| there is at
-/// most `at_most` in both of the jet fit's models (none without a second model: the cubic
-/// fit's lines on fandisk's flat faces, where k ≈ 0 leaves every crossing above the
-/// degenerate bound, gained strength past the automatic threshold's knee), and the
-/// neighbours clearly to either
-/// side of it along its principal direction (within 60°), where the estimate's e is beyond
+/// most `at_most` in both of the jet fit's models, and the neighbours clearly to either side
+/// of it along its principal direction (within 60°), where the estimate's e is beyond
 /// `1 / AT_VERTEX` times `v`'s larger value, have it of both signs and rising one way along
 /// that direction. Returns the smaller of the largest |e| of those neighbours on either side.
+/// Never without a second model: the cubic fit's lines on fandisk's flat faces, where k ≈ 0
+/// leaves every crossing above the degenerate bound, gained strength past the automatic
+/// threshold's knee.
 fn zero_through(mesh: &TriMesh, family: &Family<'_>, v: u32, at_most: f64) -> Option<f64> {
     let (e, alternative) = (
         family.e.get(v as usize)?,
