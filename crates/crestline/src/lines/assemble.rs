@@ -668,6 +668,53 @@ mod tests {
         ));
     }
 
+    /// An edge along the crest, both ends zeros of e that it passes through: a crest point,
+    /// though e hardly changes along it, when its ends' neighbours' e across it is above the
+    /// degenerate bound; not below it, nor without the second model.
+    #[test]
+    fn an_edge_along_the_crest_is_resolved_by_its_neighbours() {
+        // A 3 × 3 grid of unit squares' corners, x = −1, 0, 1 and y = 0, 1, 2, the crest on
+        // x = 0 and the principal direction x.
+        let positions: Vec<[f64; 3]> = (0..3)
+            .flat_map(|j| (0..3).map(move |i| [f64::from(i) - 1.0, f64::from(j), 0.0]))
+            .collect();
+        let mut faces = Vec::new();
+        for j in 0..2u32 {
+            for i in 0..2u32 {
+                let v = 3 * j + i;
+                faces.push([v, v + 1, v + 4]);
+                faces.push([v, v + 4, v + 3]);
+            }
+        }
+        let m = TriMesh::from_arrays(positions, faces).unwrap();
+        let edge = m.topology().edge_between(1, 4).unwrap();
+        let resolved = |slope: f64, with_alternative: bool| {
+            let (k, zero, dirs) = (vec![2.0; 9], vec![0.0; 9], vec![Vec3::x(); 9]);
+            // e rises through the column, at 1e-6 of either sign on it.
+            let e: Vec<f64> = (0..9)
+                .map(|v| match v % 3 {
+                    0 => -slope,
+                    1 if v % 2 == 0 => 1e-6 * slope,
+                    1 => -1e-6 * slope,
+                    _ => slope,
+                })
+                .collect();
+            let alternative: Vec<f64> = e
+                .iter()
+                .map(|&e| if e.abs() < slope { -e } else { e })
+                .collect();
+            let fam = Family {
+                e_alternative: if with_alternative { &alternative } else { &[] },
+                ..ridge_family(&k, &e, &zero, &dirs)
+            };
+            is_resolved(&m, &fam, SurfacePoint::Edge { edge, t: 0.5 }, 2.0)
+        };
+        // The degenerate bound is DEGENERATE_CREST |k|³ |edge| = 0.08.
+        assert!(resolved(0.5, true));
+        assert!(!resolved(0.05, true));
+        assert!(!resolved(0.5, false));
+    }
+
     /// The ridge through the midpoints of the rungs of `quad_strip(n)`, from x = 0 to n.
     fn along_the_rungs(strip: &TriMesh, n: u32) -> FeatureLine {
         FeatureLine {
