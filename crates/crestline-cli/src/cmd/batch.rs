@@ -17,11 +17,12 @@ use super::extract::{
 use crate::input::{Prepared, diffusion_factors, is_dash, load_mesh, prepare_mesh};
 use crate::progress;
 
-/// What became of one mesh: its figures (`--stats json`).
+/// What became of one mesh: its figures (`--stats json`) and the warning to print, if any.
 struct Outcome {
     input: PathBuf,
     output: PathBuf,
     result: Result<serde_json::Value>,
+    warning: Option<String>,
     seconds: f64,
 }
 
@@ -63,36 +64,23 @@ pub fn run(args: &Args) -> Result<()> {
         .zip(&outputs)
         .map(|(input, output)| {
             let clock = Instant::now();
-            let result = extract_one(input, output, args);
+            let (result, warning) = match extract_one(input, output, args) {
+                Ok((stats, warning)) => (Ok(stats), warning),
+                Err(e) => (Err(e), None),
+            };
             bar.inc(1);
             Outcome {
                 input: input.clone(),
                 output: output.clone(),
                 result,
+                warning,
                 seconds: clock.elapsed().as_secs_f64(),
             }
         })
         .collect();
     bar.finish_and_clear();
-    for o in &outcomes {
-        let grid = o
-            .result
-            .as_ref()
-            .ok()
-            .map(|stats| &stats["marching_cubes_grid"]);
-        if let Some(serde_json::Value::Array(spacing)) = grid {
-            let h: Vec<f64> = spacing
-                .iter()
-                .filter_map(serde_json::Value::as_f64)
-                .collect();
-            if let [x, y, z] = h[..] {
-                let name = o.input.display().to_string();
-                eprintln!(
-                    "{}",
-                    super::extract::marching_cubes_warning(&name, [x, y, z])
-                );
-            }
-        }
+    for warning in outcomes.iter().filter_map(|o| o.warning.as_deref()) {
+        eprintln!("{warning}");
     }
 
     match args.stats {
@@ -163,8 +151,13 @@ fn refuse_collisions(inputs: &[PathBuf], outputs: &[PathBuf]) -> Result<()> {
     Ok(())
 }
 
-/// Extracts and writes the lines of one mesh; returns its figures and counts.
-fn extract_one(input: &Path, output: &Path, args: &Args) -> Result<serde_json::Value> {
+/// Extracts and writes the lines of one mesh into `output`; returns its figures, and the
+/// warning for a raw marching-cubes mesh.
+fn extract_one(
+    input: &Path,
+    output: &Path,
+    args: &Args,
+) -> Result<(serde_json::Value, Option<String>)> {
     let clock = Instant::now();
     let (mesh, name) = load_mesh(Some(input), args.input_format)?;
     let Prepared { mesh, weld, .. } = prepare_mesh(mesh, &name, args.prepare)?;
@@ -183,7 +176,9 @@ fn extract_one(input: &Path, output: &Path, args: &Args) -> Result<serde_json::V
         load,
         write: clock.elapsed(),
     };
-    Ok(super::extract::stats_json(&extraction, &mesh, &io))
+    let warning = (extraction.stats.marching_cubes_grid)
+        .map(|grid| super::extract::marching_cubes_warning(&name, grid.spacing));
+    Ok((super::extract::stats_json(&extraction, &mesh, &io), warning))
 }
 
 fn summary_json(outcomes: &[Outcome]) -> serde_json::Value {
